@@ -1,0 +1,73 @@
+# arbor_add_robot(<target> URDF <file>
+#                 [NAME <StructName>] [NAMESPACE <ns>] [HEADER <file.hpp>]
+#                 [ROOT <link>] [TIP <link>...] [LOCK <joint>=<value>...])
+#
+# Runs arbor-gen at build time (again whenever the URDF or the generator changes) and creates an
+# INTERFACE library <target> that carries the generated header. Link it and include it as
+#   #include <robots/<HEADER>>        (HEADER defaults to <target>.hpp)
+# The generator is the arbor-gen target of this build, the imported arbor::arbor-gen of an
+# installed package, or the executable named by the cache variable ARBOR_GEN_EXECUTABLE (for
+# cross builds, where the generator must run on the build machine).
+include_guard(GLOBAL)
+
+function(arbor_add_robot target)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "URDF;NAME;NAMESPACE;HEADER;ROOT" "TIP;LOCK")
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "arbor_add_robot(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  if(NOT ARG_URDF)
+    message(FATAL_ERROR "arbor_add_robot(${target}): URDF <file> is required")
+  endif()
+  get_filename_component(urdf "${ARG_URDF}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  if(NOT EXISTS "${urdf}")
+    message(FATAL_ERROR "arbor_add_robot(${target}): URDF file not found: ${urdf}")
+  endif()
+  if(NOT ARG_HEADER)
+    set(ARG_HEADER "${target}.hpp")
+  endif()
+
+  if(ARBOR_GEN_EXECUTABLE)
+    set(gen "${ARBOR_GEN_EXECUTABLE}")
+    set(gen_dep "${ARBOR_GEN_EXECUTABLE}")
+  elseif(TARGET arbor::arbor-gen)
+    set(gen "$<TARGET_FILE:arbor::arbor-gen>")
+    set(gen_dep arbor::arbor-gen)
+  else()
+    message(FATAL_ERROR "arbor_add_robot(${target}): no arbor-gen: build it, find_package(arbor), "
+                        "or set ARBOR_GEN_EXECUTABLE")
+  endif()
+
+  set(args "${urdf}")
+  if(ARG_NAME)
+    list(APPEND args --name "${ARG_NAME}")
+  endif()
+  if(ARG_NAMESPACE)
+    list(APPEND args --namespace "${ARG_NAMESPACE}")
+  endif()
+  if(ARG_ROOT)
+    list(APPEND args --root "${ARG_ROOT}")
+  endif()
+  foreach(tip IN LISTS ARG_TIP)
+    list(APPEND args --tip "${tip}")
+  endforeach()
+  foreach(lock IN LISTS ARG_LOCK)
+    list(APPEND args --lock "${lock}")
+  endforeach()
+
+  set(dir "${CMAKE_CURRENT_BINARY_DIR}/${target}_gen")
+  set(out "${dir}/robots/${ARG_HEADER}")
+  add_custom_command(
+    OUTPUT "${out}"
+    COMMAND "${gen}" ${args} -o "${out}"
+    DEPENDS "${urdf}" ${gen_dep}
+    COMMENT "arbor-gen: ${ARG_URDF} -> robots/${ARG_HEADER}"
+    VERBATIM)
+  add_custom_target(${target}_generate DEPENDS "${out}")
+  add_library(${target} INTERFACE)
+  add_dependencies(${target} ${target}_generate)
+  target_include_directories(${target} INTERFACE "$<BUILD_INTERFACE:${dir}>")
+  if(TARGET arbor::arbor)
+    target_link_libraries(${target} INTERFACE arbor::arbor)
+  endif()
+  set_property(TARGET ${target} PROPERTY ARBOR_ROBOT_HEADER "${out}")
+endfunction()

@@ -1,0 +1,41 @@
+// arbor: configuration macros and the library-wide assertion policy.
+#pragma once
+
+/// Library version, kept in sync with the CMake project version.
+#define ARBOR_VERSION_MAJOR 0
+#define ARBOR_VERSION_MINOR 1
+#define ARBOR_VERSION_PATCH 0
+
+/// Force-inline hint used on small hot functions of the unrolled recursions.
+#if defined(__GNUC__) || defined(__clang__)
+#define ARBOR_INLINE inline __attribute__((always_inline))
+#else
+#define ARBOR_INLINE inline
+#endif
+
+// ---------------------------------------------------------------------------------------------
+// ARBOR_ASSERT(cond, msg): checks programming errors (wrong indices, bad sizes). Policy, chosen by
+// defining ARBOR_ASSERT_POLICY before including any arbor header:
+//   0  off: the condition is not evaluated (default when NDEBUG is defined)
+//   1  on: a failed check calls ARBOR_ASSERT_HANDLER(file, line, expr, msg) (default otherwise)
+// ARBOR_ASSERT_HANDLER defaults to __builtin_trap(); firmware may define it to a function of its
+// own (log, then reset). It must not return. No exceptions and no I/O in the library itself.
+// ---------------------------------------------------------------------------------------------
+#ifndef ARBOR_ASSERT_POLICY
+#ifdef NDEBUG
+#define ARBOR_ASSERT_POLICY 0
+#else
+#define ARBOR_ASSERT_POLICY 1
+#endif
+#endif
+
+#ifndef ARBOR_ASSERT_HANDLER
+#define ARBOR_ASSERT_HANDLER(file, line, expr, msg) __builtin_trap()
+#endif
+
+#if ARBOR_ASSERT_POLICY == 0
+#define ARBOR_ASSERT(cond, msg) ((void)0)
+#else
+#define ARBOR_ASSERT(cond, msg) \
+  ((cond) ? (void)0 : (ARBOR_ASSERT_HANDLER(__FILE__, __LINE__, #cond, msg), (void)0))
+#endif
