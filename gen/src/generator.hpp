@@ -1,0 +1,100 @@
+// arbor-gen: URDF (parsed by urdfdom) -> a kinematic tree of one-DoF bodies -> a C++ header of
+// constexpr data satisfying arbor::model::RobotModel (include/arbor/model/robot.hpp).
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace arbor::gen {
+
+inline constexpr const char* kVersion = "0.1.0";
+
+/// Any problem with the input or the options: the message names the element; no output is made.
+class GenError : public std::runtime_error {
+ public:
+  explicit GenError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// Command-line options (see `arbor-gen --help`).
+struct Options {
+  std::string input;                                  ///< URDF path
+  std::string output;                                 ///< header path, "-" for stdout
+  std::string name;                                   ///< struct name; derived from the URDF if empty
+  std::string ns = "arbor::robots";                   ///< namespace of the struct
+  std::string root;                                   ///< root link; the URDF root if empty
+  std::vector<std::string> tips;                      ///< keep only chains root -> these links
+  std::vector<std::pair<std::string, double>> locks;  ///< joints made fixed at these positions
+};
+
+using Vec3 = std::array<double, 3>;
+using Mat3 = std::array<Vec3, 3>;
+
+/// Rigid transform: x_parent = R x_child + p.
+struct Transform {
+  Mat3 R{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};  ///< rotation
+  Vec3 p{0, 0, 0};                            ///< translation
+};
+
+/// Mass, centre of mass and rotational inertia about the centre of mass (frame axes).
+struct MassProps {
+  double mass = 0;  ///< kg
+  Vec3 com{0, 0, 0};
+  Mat3 I{};
+};
+
+enum class Kind { RX, RY, RZ, RU, PX, PY, PZ, PU };
+
+/// One body of the tree (its movable joint and the links lumped into it).
+struct Body {
+  std::string joint;       ///< URDF joint name
+  std::string link;        ///< URDF child link name
+  int parent = -1;         ///< parent body, -1 = fixed base
+  Kind kind = Kind::RZ;    ///< joint kind
+  Vec3 axis{0, 0, 1};      ///< unit axis in the joint frame
+  Transform placement;     ///< joint frame in the parent body frame at q = 0
+  MassProps inertia;       ///< lumped inertia in the body frame
+  double lower = 0, upper = 0, velocity = 0, effort = 0;  ///< limits (inf where none)
+  bool continuous = false;  ///< URDF type was continuous
+};
+
+/// An operational frame: one per URDF link kept.
+struct FrameDesc {
+  std::string link;     ///< URDF link name
+  int body = -1;        ///< body it moves with, -1 = fixed base
+  Transform placement;  ///< placement in that body's frame
+};
+
+/// The tree extracted from a URDF, in depth-first URDF document order (parent < child).
+struct RobotDesc {
+  std::string urdf_name;          ///< <robot name=...>
+  std::string root_link;          ///< the fixed base link
+  std::vector<Body> bodies;       ///< movable bodies
+  MassProps base;                 ///< inertia lumped into the fixed base
+  std::vector<FrameDesc> frames;  ///< every link kept, in depth-first order
+  std::vector<std::string> notes; ///< non-fatal remarks (dropped links, locked joints...)
+};
+
+/// Parses URDF text with urdfdom and builds the tree. `source` names the file in messages.
+/// Throws GenError with a message naming the offending element.
+RobotDesc build_robot(const std::string& urdf_text, const Options& opt, const std::string& source);
+
+/// Information written into the banner.
+struct Provenance {
+  std::string file_name;  ///< base name of the URDF
+  std::string sha256;     ///< hex digest of the URDF bytes
+};
+
+/// The header text for a built robot (deterministic: same input, same bytes).
+std::string emit_header(const RobotDesc& robot, const Options& opt, const Provenance& prov);
+
+/// Turns any string into a valid C++ identifier (invalid characters -> '_', leading digit and
+/// keywords handled). `pascal` gives PascalCase (for type names).
+std::string sanitize_identifier(const std::string& s, bool pascal);
+
+/// True when `s` is a valid, non-reserved C++ identifier.
+bool is_identifier(const std::string& s);
+
+}  // namespace arbor::gen
