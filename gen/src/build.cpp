@@ -431,6 +431,19 @@ class Builder {
   RobotDesc out_;
 };
 
+/// urdfdom links own their children through shared_ptr; on a cyclic input that is a reference
+/// cycle that never frees. Clearing the child lists when we are done releases every link.
+struct ReleaseLinks {
+  urdf::ModelInterfaceSharedPtr model;
+  ~ReleaseLinks() {
+    if (!model) return;
+    for (auto& [name, link] : model->links_) {
+      link->child_links.clear();
+      link->child_joints.clear();
+    }
+  }
+};
+
 }  // namespace
 
 RobotDesc build_robot(const std::string& text, const Options& opt, const std::string& source) {
@@ -465,6 +478,7 @@ RobotDesc build_robot(const std::string& text, const Options& opt, const std::st
     }
     // urdfdom sometimes logs an error and carries on with the element dropped (e.g. a mass that
     // is not a number leaves the link massless): any logged error rejects the file.
+    const ReleaseLinks release{model};
     if (!model || !errors.empty()) {
       std::string msg = "urdfdom rejected the file";
       for (const auto& e : errors) msg += "\n  " + e;
