@@ -20,6 +20,16 @@ std::string limit(double x, const char* fmt) {
   return buf;
 }
 
+/// Kind with the axis sign, e.g. "RZ", "-RX", "R*" (unaligned).
+template <class R>
+std::string kind_label(int i) {
+  using namespace arbor::model;
+  const JointKind k = R::joint_kind[i];
+  const int axis = axis_index(k);
+  const bool negative = axis >= 0 && R::joint_axis[i][axis] < 0;
+  return std::string(negative ? "-" : "") + short_name(k);
+}
+
 template <arbor::Robot R>
 void print_robot(const char* struct_name) {
   using namespace arbor::model;
@@ -42,7 +52,7 @@ void print_robot(const char* struct_name) {
     std::printf("   %3d  %-22.*s %-24.*s %-4s %6d %10s %10s %9s %9s %9.4f\n", i,
                 int(R::joint_names[i].size()), R::joint_names[i].data(),
                 int(R::body_names[i].size()), R::body_names[i].data(),
-                short_name(R::joint_kind[i]), R::parent[i], limit(l.lower, "%.4f").c_str(),
+                kind_label<R>(i).c_str(), R::parent[i], limit(l.lower, "%.4f").c_str(),
                 limit(l.upper, "%.4f").c_str(), limit(l.velocity, "%.3g").c_str(),
                 limit(l.effort, "%.4g").c_str(), R::body_inertia[i].mass);
   }

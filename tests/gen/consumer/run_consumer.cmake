@@ -15,8 +15,26 @@ foreach(f include/arbor/model/robot.hpp bin/arbor-gen lib/cmake/arbor/arborConfi
     message(FATAL_ERROR "install is missing ${f}")
   endif()
 endforeach()
+set(urdf "${WORK_DIR}/arm.urdf")
+configure_file("${URDF}" "${urdf}" COPYONLY)
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE}" -B "${WORK_DIR}/build" "-DCMAKE_PREFIX_PATH=${prefix}"
-    "-DARM_URDF=${URDF}" -DCMAKE_BUILD_TYPE=Release)
+    "-DARM_URDF=${urdf}" -DCMAKE_BUILD_TYPE=Release)
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build" -j2)
 run("${WORK_DIR}/build/consumer")
+
+# The banner carries the URDF's sha256 (checked against CMake's own implementation), and editing
+# the URDF regenerates the header on the next build.
+set(header "${WORK_DIR}/build/my_arm_gen/robots/my_arm.hpp")
+function(expect_banner_sha)
+  file(SHA256 "${urdf}" sha)
+  file(READ "${header}" text)
+  string(FIND "${text}" "// Source sha256: ${sha}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "banner of ${header} does not carry sha256 ${sha}")
+  endif()
+endfunction()
+expect_banner_sha()
+file(APPEND "${urdf}" "<!-- edited -->\n")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/build" -j2)
+expect_banner_sha()
 message(STATUS "consumer project: OK")
