@@ -1,6 +1,6 @@
 // The robot contract: hand-written robots with one defect each are rejected with that defect's
 // error, and a correct one is accepted.
-#include <gtest/gtest.h>
+#include "arbor_test.hpp"
 
 #include <array>
 #include <limits>
