@@ -14,7 +14,8 @@
 namespace {
 
 std::string limit(double x, const char* fmt) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  if (std::isinf(x))
+    return x > 0 ? "inf" : "-inf";
   char buf[32];
   std::snprintf(buf, sizeof buf, fmt, x);
   return buf;
@@ -34,7 +35,8 @@ template <arbor::Robot R>
 void print_robot(const char* struct_name) {
   using namespace arbor::model;
   int kinds[8] = {};
-  for (JointKind k : R::joint_kind) ++kinds[int(k)];
+  for (JointKind k : R::joint_kind)
+    ++kinds[int(k)];
   std::printf("\n== %s  (URDF '%.*s' from %.*s)\n", struct_name, int(R::name.size()),
               R::name.data(), int(R::source_file.size()), R::source_file.data());
   std::printf("   bodies %d, DoF %d, operational frames %d, fixed base '%.*s'\n", R::nb, R::nv,
@@ -43,7 +45,8 @@ void print_robot(const char* struct_name) {
               total_mass<R>() - R::base_inertia.mass);
   std::printf("   joint kinds:");
   for (int k = 0; k < 8; ++k)
-    if (kinds[k]) std::printf(" %s x%d", short_name(JointKind(k)), kinds[k]);
+    if (kinds[k])
+      std::printf(" %s x%d", short_name(JointKind(k)), kinds[k]);
   std::printf("\n");
   std::printf("   %3s  %-22s %-24s %-4s %6s %10s %10s %9s %9s %9s\n", "#", "joint", "body", "kind",
               "parent", "lower", "upper", "vel", "effort", "mass");
@@ -51,10 +54,10 @@ void print_robot(const char* struct_name) {
     const Limits& l = R::limits[i];
     std::printf("   %3d  %-22.*s %-24.*s %-4s %6d %10s %10s %9s %9s %9.4f\n", i,
                 int(R::joint_names[i].size()), R::joint_names[i].data(),
-                int(R::body_names[i].size()), R::body_names[i].data(),
-                kind_label<R>(i).c_str(), R::parent[i], limit(l.lower, "%.4f").c_str(),
-                limit(l.upper, "%.4f").c_str(), limit(l.velocity, "%.3g").c_str(),
-                limit(l.effort, "%.4g").c_str(), R::body_inertia[i].mass);
+                int(R::body_names[i].size()), R::body_names[i].data(), kind_label<R>(i).c_str(),
+                R::parent[i], limit(l.lower, "%.4f").c_str(), limit(l.upper, "%.4f").c_str(),
+                limit(l.velocity, "%.3g").c_str(), limit(l.effort, "%.4g").c_str(),
+                R::body_inertia[i].mass);
   }
 }
 

@@ -2,9 +2,9 @@
 #include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <console_bridge/console.h>
 #include <algorithm>
 #include <cmath>
-#include <console_bridge/console.h>
 #include <map>
 #include <set>
 #include <sstream>
@@ -19,26 +19,30 @@ Mat3 mul(const Mat3& a, const Mat3& b) {
   Mat3 c{};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) c[i][j] += a[i][k] * b[k][j];
+      for (int k = 0; k < 3; ++k)
+        c[i][j] += a[i][k] * b[k][j];
   return c;
 }
 Vec3 mul(const Mat3& a, const Vec3& v) {
   Vec3 r{};
   for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) r[i] += a[i][k] * v[k];
+    for (int k = 0; k < 3; ++k)
+      r[i] += a[i][k] * v[k];
   return r;
 }
 Mat3 transpose(const Mat3& a) {
   Mat3 t{};
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) t[i][j] = a[j][i];
+    for (int j = 0; j < 3; ++j)
+      t[i][j] = a[j][i];
   return t;
 }
 Transform compose(const Transform& a, const Transform& b) {
   Transform c;
   c.R = mul(a.R, b.R);
   const Vec3 rp = mul(a.R, b.p);
-  for (int i = 0; i < 3; ++i) c.p[i] = a.p[i] + rp[i];
+  for (int i = 0; i < 3; ++i)
+    c.p[i] = a.p[i] + rp[i];
   return c;
 }
 /// Rotation by angle about a unit axis (Rodrigues).
@@ -54,7 +58,8 @@ MassProps combine(const MassProps& a, const MassProps& b) {
   MassProps r;
   r.mass = a.mass + b.mass;
   if (r.mass > 0) {
-    for (int i = 0; i < 3; ++i) r.com[i] = (a.mass * a.com[i] + b.mass * b.com[i]) / r.mass;
+    for (int i = 0; i < 3; ++i)
+      r.com[i] = (a.mass * a.com[i] + b.mass * b.com[i]) / r.mass;
   }
   for (const MassProps* part : {&a, &b}) {
     const Vec3 d{part->com[0] - r.com[0], part->com[1] - r.com[1], part->com[2] - r.com[2]};
@@ -81,7 +86,8 @@ class Capture : public console_bridge::OutputHandler {
   }
   ~Capture() override { console_bridge::restorePreviousOutputHandler(); }
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors.push_back(text);
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR)
+      errors.push_back(text);
   }
   std::vector<std::string> errors;
 };
@@ -95,7 +101,8 @@ Transform to_transform(const urdf::Pose& pose, const std::string& what) {
     throw GenError(what + ": non-finite number in <origin>");
   }
   const double n = std::sqrt(x * x + y * y + z * z + w * w);
-  if (!(n > 0)) throw GenError(what + ": degenerate rotation in <origin>");
+  if (!(n > 0))
+    throw GenError(what + ": degenerate rotation in <origin>");
   x /= n;
   y /= n;
   z /= n;
@@ -108,7 +115,9 @@ Transform to_transform(const urdf::Pose& pose, const std::string& what) {
   return t;
 }
 
-std::string quote(const std::string& s) { return "'" + s + "'"; }
+std::string quote(const std::string& s) {
+  return "'" + s + "'";
+}
 
 const char* type_name(int type) {
   switch (type) {
@@ -136,8 +145,10 @@ class Builder {
           std::map<std::string, std::size_t> doc_order)
       : model_(model), opt_(opt), doc_order_(std::move(doc_order)) {
     for (const auto& [joint, value] : opt.locks) {
-      if (!std::isfinite(value)) throw GenError("--lock " + joint + ": value is not finite");
-      if (!model_.getJoint(joint)) throw GenError("--lock " + joint + ": no joint of that name");
+      if (!std::isfinite(value))
+        throw GenError("--lock " + joint + ": value is not finite");
+      if (!model_.getJoint(joint))
+        throw GenError("--lock " + joint + ": no joint of that name");
       if (!locks_.emplace(joint, value).second)
         throw GenError("--lock " + joint + ": given more than once");
     }
@@ -148,7 +159,8 @@ class Builder {
     urdf::LinkConstSharedPtr root = model_.getRoot();
     if (!opt_.root.empty()) {
       root = model_.getLink(opt_.root);
-      if (!root) throw GenError("--root " + opt_.root + ": no link of that name");
+      if (!root)
+        throw GenError("--root " + opt_.root + ": no link of that name");
     }
     out_.urdf_name = model_.getName();
     out_.root_link = root->name;
@@ -177,7 +189,8 @@ class Builder {
         if (!seen.insert(l->name).second) {
           std::string cycle;
           auto it = std::find(path.begin(), path.end(), l->name);
-          for (; it != path.end(); ++it) cycle += *it + " <- ";
+          for (; it != path.end(); ++it)
+            cycle += *it + " <- ";
           throw GenError("the kinematic graph has a cycle: " + cycle + l->name +
                          " (a URDF must be a tree)");
         }
@@ -206,15 +219,18 @@ class Builder {
         auto l = stack.back();
         stack.pop_back();
         selected_.insert(l->name);
-        for (const auto& child : l->child_links) stack.push_back(child);
+        for (const auto& child : l->child_links)
+          stack.push_back(child);
       }
       return;
     }
     for (const std::string& tip : opt_.tips) {
       urdf::LinkConstSharedPtr l = model_.getLink(tip);
-      if (!l) throw GenError("--tip " + tip + ": no link of that name");
+      if (!l)
+        throw GenError("--tip " + tip + ": no link of that name");
       std::vector<std::string> chain;
-      for (; l && l->name != root->name; l = l->getParent()) chain.push_back(l->name);
+      for (; l && l->name != root->name; l = l->getParent())
+        chain.push_back(l->name);
       if (!l)
         throw GenError("--tip " + tip + ": link is not below the root link " + quote(root->name));
       selected_.insert(root->name);
@@ -223,10 +239,12 @@ class Builder {
   }
 
   void add_inertial(int body, const Transform& X, const urdf::Link& link) {
-    if (!link.inertial) return;
+    if (!link.inertial)
+      return;
     const urdf::Inertial& in = *link.inertial;
     const std::string what = "link " + quote(link.name);
-    if (!std::isfinite(in.mass)) throw GenError(what + ": mass is not finite");
+    if (!std::isfinite(in.mass))
+      throw GenError(what + ": mass is not finite");
     if (in.mass < 0) {
       std::ostringstream s;
       s << what << ": negative mass " << in.mass << " kg";
@@ -234,7 +252,8 @@ class Builder {
     }
     const Mat3 I{{{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}}};
     for (const auto& row : I)
-      if (!finite3(row)) throw GenError(what + ": inertia is not finite");
+      if (!finite3(row))
+        throw GenError(what + ": inertia is not finite");
     // Positive semi-definite with the triangle inequality (physical rotational inertia).
     const double tol = 1e-9 * (std::abs(in.ixx) + std::abs(in.iyy) + std::abs(in.izz)) + 1e-300;
     if (in.ixx < -tol || in.iyy < -tol || in.izz < -tol || in.ixx + in.iyy < in.izz - tol ||
@@ -283,9 +302,11 @@ class Builder {
   Vec3 movable_axis(const urdf::Joint& j) const {
     const Vec3 a{j.axis.x, j.axis.y, j.axis.z};
     const std::string what = std::string(type_name(j.type)) + " joint " + quote(j.name);
-    if (!finite3(a)) throw GenError(what + ": axis is not finite");
+    if (!finite3(a))
+      throw GenError(what + ": axis is not finite");
     const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    if (!(n > 1e-12)) throw GenError(what + ": axis is the zero vector");
+    if (!(n > 1e-12))
+      throw GenError(what + ": axis is the zero vector");
     return Vec3{a[0] / n, a[1] / n, a[2] / n};
   }
 
@@ -350,9 +371,11 @@ class Builder {
   }
 
   void check_lock_range(const urdf::Joint& j, double value) const {
-    if (j.type == urdf::Joint::CONTINUOUS || !j.limits) return;
+    if (j.type == urdf::Joint::CONTINUOUS || !j.limits)
+      return;
     const double lo = j.limits->lower, hi = j.limits->upper;
-    if (lo == 0 && hi == 0) return;  // exporters' "no limits"
+    if (lo == 0 && hi == 0)
+      return;  // exporters' "no limits"
     if (value < lo || value > hi) {
       std::ostringstream s;
       s << "--lock " << j.name << "=" << value << ": outside the joint's limits [" << lo << ", "
@@ -395,15 +418,20 @@ class Builder {
       const urdf::JointLimits& l = *j.limits;
       const std::string what = "joint " + quote(j.name) + " <limit>";
       for (double x : {l.lower, l.upper, l.velocity, l.effort})
-        if (!std::isfinite(x)) throw GenError(what + ": non-finite value");
+        if (!std::isfinite(x))
+          throw GenError(what + ": non-finite value");
       if (!b.continuous && !(l.lower == 0 && l.upper == 0)) {
-        if (l.lower > l.upper) throw GenError(what + ": lower > upper");
+        if (l.lower > l.upper)
+          throw GenError(what + ": lower > upper");
         b.lower = l.lower;
         b.upper = l.upper;
       }
-      if (l.velocity < 0 || l.effort < 0) throw GenError(what + ": negative velocity or effort");
-      if (l.velocity > 0) b.velocity = l.velocity;
-      if (l.effort > 0) b.effort = l.effort;
+      if (l.velocity < 0 || l.effort < 0)
+        throw GenError(what + ": negative velocity or effort");
+      if (l.velocity > 0)
+        b.velocity = l.velocity;
+      if (l.effort > 0)
+        b.effort = l.effort;
     }
     out_.bodies.push_back(b);
   }
@@ -418,7 +446,8 @@ class Builder {
                        "row would be singular. Lock it with --lock " +
                        out_.bodies[i].joint + "=VALUE or drop it with --tip");
       }
-      if (out_.bodies[i].parent >= 0) m[out_.bodies[i].parent] += m[i];
+      if (out_.bodies[i].parent >= 0)
+        m[out_.bodies[i].parent] += m[i];
     }
   }
 
@@ -436,7 +465,8 @@ class Builder {
 struct ReleaseLinks {
   urdf::ModelInterfaceSharedPtr model;
   ~ReleaseLinks() {
-    if (!model) return;
+    if (!model)
+      return;
     for (auto& [name, link] : model->links_) {
       link->child_links.clear();
       link->child_joints.clear();
@@ -458,13 +488,15 @@ RobotDesc build_robot(const std::string& text, const Options& opt, const std::st
       throw GenError(s.str());
     }
     const TiXmlElement* robot = doc.FirstChildElement("robot");
-    if (!robot) throw GenError("no <robot> element: not a URDF file");
+    if (!robot)
+      throw GenError("no <robot> element: not a URDF file");
     // Document order of the joints, to walk children in the order the author wrote them.
     std::map<std::string, std::size_t> doc_order;
     std::set<std::string> link_names;
     for (const TiXmlElement* e = robot->FirstChildElement(); e; e = e->NextSiblingElement()) {
       const char* name = e->Attribute("name");
-      if (e->ValueStr() == "joint" && name) doc_order.emplace(name, doc_order.size());
+      if (e->ValueStr() == "joint" && name)
+        doc_order.emplace(name, doc_order.size());
       if (e->ValueStr() == "link" && name && !link_names.insert(name).second)
         throw GenError("link " + quote(name) + " is defined more than once");
     }
@@ -481,7 +513,8 @@ RobotDesc build_robot(const std::string& text, const Options& opt, const std::st
     const ReleaseLinks release{model};
     if (!model || !errors.empty()) {
       std::string msg = "urdfdom rejected the file";
-      for (const auto& e : errors) msg += "\n  " + e;
+      for (const auto& e : errors)
+        msg += "\n  " + e;
       throw GenError(msg);
     }
     return Builder(*model, opt, std::move(doc_order)).run();

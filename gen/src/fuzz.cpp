@@ -15,7 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const arbor::gen::RobotDesc robot = arbor::gen::build_robot(text, opt, opt.input);
     const std::string header = arbor::gen::emit_header(robot, opt, {"fuzz.urdf", "0"});
-    if (header.empty()) __builtin_trap();
+    if (header.empty())
+      __builtin_trap();
   } catch (const arbor::gen::GenError&) {
   }
   return 0;

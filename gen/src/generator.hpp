@@ -20,12 +20,12 @@ class GenError : public std::runtime_error {
 
 /// Command-line options (see `arbor-gen --help`).
 struct Options {
-  std::string input;                                  ///< URDF path
-  std::string output;                                 ///< header path, "-" for stdout
-  std::string name;                                   ///< struct name; derived from the URDF if empty
-  std::string ns = "arbor::robots";                   ///< namespace of the struct
-  std::string root;                                   ///< root link; the URDF root if empty
-  std::vector<std::string> tips;                      ///< keep only chains root -> these links
+  std::string input;                 ///< URDF path
+  std::string output;                ///< header path, "-" for stdout
+  std::string name;                  ///< struct name; derived from the URDF if empty
+  std::string ns = "arbor::robots";  ///< namespace of the struct
+  std::string root;                  ///< root link; the URDF root if empty
+  std::vector<std::string> tips;     ///< keep only chains root -> these links
   std::vector<std::pair<std::string, double>> locks;  ///< joints made fixed at these positions
 };
 
@@ -49,15 +49,15 @@ enum class Kind { RX, RY, RZ, RU, PX, PY, PZ, PU };
 
 /// One body of the tree (its movable joint and the links lumped into it).
 struct Body {
-  std::string joint;       ///< URDF joint name
-  std::string link;        ///< URDF child link name
-  int parent = -1;         ///< parent body, -1 = fixed base
-  Kind kind = Kind::RZ;    ///< joint kind
-  Vec3 axis{0, 0, 1};      ///< unit axis in the joint frame
-  Transform placement;     ///< joint frame in the parent body frame at q = 0
-  MassProps inertia;       ///< lumped inertia in the body frame
+  std::string joint;     ///< URDF joint name
+  std::string link;      ///< URDF child link name
+  int parent = -1;       ///< parent body, -1 = fixed base
+  Kind kind = Kind::RZ;  ///< joint kind
+  Vec3 axis{0, 0, 1};    ///< unit axis in the joint frame
+  Transform placement;   ///< joint frame in the parent body frame at q = 0
+  MassProps inertia;     ///< lumped inertia in the body frame
   double lower = 0, upper = 0, velocity = 0, effort = 0;  ///< limits (inf where none)
-  bool continuous = false;  ///< URDF type was continuous
+  bool continuous = false;                                ///< URDF type was continuous
 };
 
 /// An operational frame: one per URDF link kept.
@@ -69,12 +69,12 @@ struct FrameDesc {
 
 /// The tree extracted from a URDF, in depth-first URDF document order (parent < child).
 struct RobotDesc {
-  std::string urdf_name;          ///< <robot name=...>
-  std::string root_link;          ///< the fixed base link
-  std::vector<Body> bodies;       ///< movable bodies
-  MassProps base;                 ///< inertia lumped into the fixed base
-  std::vector<FrameDesc> frames;  ///< every link kept, in depth-first order
-  std::vector<std::string> notes; ///< non-fatal remarks (dropped links, locked joints...)
+  std::string urdf_name;           ///< <robot name=...>
+  std::string root_link;           ///< the fixed base link
+  std::vector<Body> bodies;        ///< movable bodies
+  MassProps base;                  ///< inertia lumped into the fixed base
+  std::vector<FrameDesc> frames;   ///< every link kept, in depth-first order
+  std::vector<std::string> notes;  ///< non-fatal remarks (dropped links, locked joints...)
 };
 
 /// Parses URDF text with urdfdom and builds the tree. `source` names the file in messages.

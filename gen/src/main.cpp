@@ -40,7 +40,8 @@ On any error nothing is written and the exit status is 1 (2 for usage errors).
 }
 
 bool parse_double(const std::string& s, double& out) {
-  if (s.empty()) return false;
+  if (s.empty())
+    return false;
   errno = 0;
   char* end = nullptr;
   out = std::strtod(s.c_str(), &end);
@@ -50,7 +51,8 @@ bool parse_double(const std::string& s, double& out) {
 arbor::gen::Options parse_args(int argc, char** argv, bool& quiet) {
   arbor::gen::Options opt;
   auto value = [&](int& i, const std::string& flag) -> std::string {
-    if (i + 1 >= argc) usage_error(flag + " needs a value");
+    if (i + 1 >= argc)
+      usage_error(flag + " needs a value");
     return argv[++i];
   };
   for (int i = 1; i < argc; ++i) {
@@ -78,7 +80,8 @@ arbor::gen::Options parse_args(int argc, char** argv, bool& quiet) {
         part = rest.substr(pos, next == std::string::npos ? std::string::npos : next - pos);
         if (!arbor::gen::is_identifier(part))
           usage_error("--namespace " + opt.ns + ": not a valid C++ namespace");
-        if (next == std::string::npos) break;
+        if (next == std::string::npos)
+          break;
         pos = next + 2;
       }
     } else if (a == "--root") {
@@ -102,8 +105,10 @@ arbor::gen::Options parse_args(int argc, char** argv, bool& quiet) {
       usage_error("more than one input file: " + opt.input + ", " + a);
     }
   }
-  if (opt.input.empty()) usage_error("no input URDF");
-  if (opt.output.empty()) usage_error("no output file (-o FILE)");
+  if (opt.input.empty())
+    usage_error("no input URDF");
+  if (opt.output.empty())
+    usage_error("no output file (-o FILE)");
   return opt;
 }
 
@@ -115,7 +120,8 @@ void write_atomically(const std::string& path, const std::string& text) {
   if (target.has_parent_path()) {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
-    if (ec) throw arbor::gen::GenError(path + ": cannot create folder: " + ec.message());
+    if (ec)
+      throw arbor::gen::GenError(path + ": cannot create folder: " + ec.message());
   }
   const fs::path tmp = target.string() + ".tmp" + std::to_string(::getpid());
   {
@@ -148,7 +154,8 @@ int main(int argc, char** argv) {
     }
     std::ostringstream buf;
     buf << in.rdbuf();
-    if (in.bad()) throw arbor::gen::GenError(opt.input + ": read error");
+    if (in.bad())
+      throw arbor::gen::GenError(opt.input + ": read error");
     const std::string text = buf.str();
     if (std::filesystem::is_directory(opt.input))
       throw arbor::gen::GenError(opt.input + ": is a folder, not a URDF file");
@@ -158,7 +165,8 @@ int main(int argc, char** argv) {
                                       arbor::gen::sha256_hex(text)};
     const std::string header = arbor::gen::emit_header(robot, opt, prov);
     if (!quiet)
-      for (const auto& note : robot.notes) std::cerr << "arbor-gen: note: " << note << "\n";
+      for (const auto& note : robot.notes)
+        std::cerr << "arbor-gen: note: " << note << "\n";
     if (opt.output == "-") {
       std::cout << header;
     } else {

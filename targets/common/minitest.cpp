@@ -19,25 +19,31 @@ Out& out() {
 
 void Out::flush() {
   buf_[n_] = 0;
-  if (n_) arbor_puts(buf_);
+  if (n_)
+    arbor_puts(buf_);
   n_ = 0;
 }
 
 Out& Out::operator<<(char c) {
-  if (n_ >= int(sizeof buf_) - 1) flush();
+  if (n_ >= int(sizeof buf_) - 1)
+    flush();
   buf_[n_++] = c;
-  if (c == '\n') flush();
+  if (c == '\n')
+    flush();
   return *this;
 }
 
 Out& Out::operator<<(const char* s) {
-  if (!s) return *this << "(null)";
-  while (*s) *this << *s++;
+  if (!s)
+    return *this << "(null)";
+  while (*s)
+    *this << *s++;
   return *this;
 }
 
 Out& Out::operator<<(std::string_view s) {
-  for (char c : s) *this << c;
+  for (char c : s)
+    *this << c;
   return *this;
 }
 
@@ -48,7 +54,8 @@ Out& Out::operator<<(unsigned long long v) {
     d[k++] = char('0' + v % 10);
     v /= 10;
   } while (v);
-  while (k) *this << d[--k];
+  while (k)
+    *this << d[--k];
   return *this;
 }
 
@@ -62,13 +69,16 @@ Out& Out::operator<<(long long v) {
 
 // Scientific notation with 10 significant digits, good enough for test messages.
 Out& Out::operator<<(double v) {
-  if (std::isnan(v)) return *this << "nan";
-  if (std::isinf(v)) return *this << (v > 0 ? "inf" : "-inf");
+  if (std::isnan(v))
+    return *this << "nan";
+  if (std::isinf(v))
+    return *this << (v > 0 ? "inf" : "-inf");
   if (v < 0) {
     *this << '-';
     v = -v;
   }
-  if (v == 0) return *this << "0";
+  if (v == 0)
+    return *this << "0";
   int e = int(std::floor(std::log10(v)));
   double m = v / std::pow(10.0, e);
   if (m >= 10) {
@@ -90,7 +100,8 @@ Out& Out::operator<<(double v) {
     digits /= 10;
   }
   *this << d[0] << '.';
-  for (int i = 1; i < 10; ++i) *this << d[i];
+  for (int i = 1; i < 10; ++i)
+    *this << d[i];
   *this << 'e' << static_cast<long long>(e);
   return *this;
 }
@@ -108,7 +119,9 @@ Failure::Failure(const char* file, int line, const char* text) {
   out() << file << ":" << line << ": Failure\n  expected: " << text;
 }
 
-Failure::~Failure() { out() << "\n"; }
+Failure::~Failure() {
+  out() << "\n";
+}
 
 int run_all() {
   int passed = 0, failed = 0;
@@ -133,4 +146,6 @@ int run_all() {
 
 }  // namespace arbor::minitest
 
-int main() { return arbor::minitest::run_all(); }
+int main() {
+  return arbor::minitest::run_all();
+}

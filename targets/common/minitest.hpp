@@ -90,8 +90,10 @@ void print_pair(const A& a, const B& b) {
 /// ULP-based closeness as GoogleTest's DOUBLE_EQ/FLOAT_EQ (within 4 units in the last place).
 template <class T>
 bool almost_equal(T a, T b) {
-  if (std::isnan(a) || std::isnan(b)) return false;
-  if (a == b) return true;
+  if (std::isnan(a) || std::isnan(b))
+    return false;
+  if (a == b)
+    return true;
   const T diff = std::fabs(a - b);
   const T scale = std::fmax(std::fabs(a), std::fabs(b));
   return diff <= T(4) * std::numeric_limits<T>::epsilon() * scale;
@@ -105,26 +107,26 @@ int run_all();
 #define ARBOR_MT_CAT2_(a, b) a##b
 #define ARBOR_MT_CAT_(a, b) ARBOR_MT_CAT2_(a, b)
 
-#define TEST(suite, name)                                                                      \
-  static void suite##_##name##_body();                                                         \
+#define TEST(suite, name)                                                                         \
+  static void suite##_##name##_body();                                                            \
   static ::arbor::minitest::TestInfo suite##_##name##_info{#suite, #name, &suite##_##name##_body, \
-                                                           nullptr};                           \
-  static ::arbor::minitest::Registrar suite##_##name##_reg(&suite##_##name##_info);             \
+                                                           nullptr};                              \
+  static ::arbor::minitest::Registrar suite##_##name##_reg(&suite##_##name##_info);               \
   static void suite##_##name##_body()
 
-#define TEST_F(fixture, name)                                                          \
-  struct fixture##_##name##_Test : fixture {                                           \
-    void TestBody();                                                                   \
-  };                                                                                   \
-  static void fixture##_##name##_run() {                                               \
-    static fixture##_##name##_Test t;                                                  \
-    t.SetUp();                                                                         \
-    t.TestBody();                                                                      \
-    t.TearDown();                                                                      \
-  }                                                                                    \
-  static ::arbor::minitest::TestInfo fixture##_##name##_info{#fixture, #name,          \
+#define TEST_F(fixture, name)                                                                   \
+  struct fixture##_##name##_Test : fixture {                                                    \
+    void TestBody();                                                                            \
+  };                                                                                            \
+  static void fixture##_##name##_run() {                                                        \
+    static fixture##_##name##_Test t;                                                           \
+    t.SetUp();                                                                                  \
+    t.TestBody();                                                                               \
+    t.TearDown();                                                                               \
+  }                                                                                             \
+  static ::arbor::minitest::TestInfo fixture##_##name##_info{#fixture, #name,                   \
                                                              &fixture##_##name##_run, nullptr}; \
-  static ::arbor::minitest::Registrar fixture##_##name##_reg(&fixture##_##name##_info); \
+  static ::arbor::minitest::Registrar fixture##_##name##_reg(&fixture##_##name##_info);         \
   void fixture##_##name##_Test::TestBody()
 
 #define ARBOR_MT_EXPECT_(cond, text) \
@@ -136,8 +138,8 @@ int run_all();
   } else                             \
     return ::arbor::minitest::Voidify() & ::arbor::minitest::Failure(__FILE__, __LINE__, text)
 
-#define ARBOR_MT_CMP_(kind, a, b, op)                                                   \
-  ARBOR_MT_##kind##_(((a)op(b)), #a " " #op " " #b)                                     \
+#define ARBOR_MT_CMP_(kind, a, b, op)               \
+  ARBOR_MT_##kind##_(((a)op(b)), #a " " #op " " #b) \
       << (::arbor::minitest::print_pair((a), (b)), "\n    ")
 
 #define EXPECT_TRUE(c) ARBOR_MT_EXPECT_(static_cast<bool>(c), #c " is true")
@@ -156,18 +158,16 @@ int run_all();
 #define ASSERT_LE(a, b) ARBOR_MT_CMP_(ASSERT, a, b, <=)
 #define ASSERT_GT(a, b) ARBOR_MT_CMP_(ASSERT, a, b, >)
 #define ASSERT_GE(a, b) ARBOR_MT_CMP_(ASSERT, a, b, >=)
-#define EXPECT_NEAR(a, b, tol)                                                   \
-  ARBOR_MT_EXPECT_(std::fabs(double(a) - double(b)) <= double(tol),              \
-                   "|" #a " - " #b "| <= " #tol)                                 \
+#define EXPECT_NEAR(a, b, tol)                                                                    \
+  ARBOR_MT_EXPECT_(std::fabs(double(a) - double(b)) <= double(tol), "|" #a " - " #b "| <= " #tol) \
       << (::arbor::minitest::print_pair(double(a), double(b)), "\n    ")
-#define ASSERT_NEAR(a, b, tol)                                                   \
-  ARBOR_MT_ASSERT_(std::fabs(double(a) - double(b)) <= double(tol),              \
-                   "|" #a " - " #b "| <= " #tol)                                 \
+#define ASSERT_NEAR(a, b, tol)                                                                    \
+  ARBOR_MT_ASSERT_(std::fabs(double(a) - double(b)) <= double(tol), "|" #a " - " #b "| <= " #tol) \
       << (::arbor::minitest::print_pair(double(a), double(b)), "\n    ")
-#define EXPECT_DOUBLE_EQ(a, b)                                                              \
+#define EXPECT_DOUBLE_EQ(a, b)                                                               \
   ARBOR_MT_EXPECT_(::arbor::minitest::almost_equal<double>((a), (b)), #a " == " #b " (ULP)") \
       << (::arbor::minitest::print_pair(double(a), double(b)), "\n    ")
-#define EXPECT_FLOAT_EQ(a, b)                                                             \
+#define EXPECT_FLOAT_EQ(a, b)                                                               \
   ARBOR_MT_EXPECT_(::arbor::minitest::almost_equal<float>((a), (b)), #a " == " #b " (ULP)") \
       << (::arbor::minitest::print_pair(double(a), double(b)), "\n    ")
 #define SCOPED_TRACE(msg) ((void)0)

@@ -16,9 +16,12 @@ static inline int semihost(int op, const void* arg) {
   return r0;
 }
 
-void arbor_puts(const char* s) { semihost(SYS_WRITE0, s); }
+void arbor_puts(const char* s) {
+  semihost(SYS_WRITE0, s);
+}
 
 void arbor_exit(int code) {
   const uint32_t block[2] = {ADP_Stopped_ApplicationExit, (uint32_t)code};
-  for (;;) semihost(SYS_EXIT_EXTENDED, block);
+  for (;;)
+    semihost(SYS_EXIT_EXTENDED, block);
 }

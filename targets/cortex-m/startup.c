@@ -38,8 +38,10 @@ __attribute__((naked, noreturn)) void Reset_Handler(void) {
 }
 
 __attribute__((noreturn)) void arbor_reset_c(void) {
-  for (uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;) *dst++ = *src++;
-  for (uint32_t* p = __bss_start; p < __bss_end;) *p++ = 0;
+  for (uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;)
+    *dst++ = *src++;
+  for (uint32_t* p = __bss_start; p < __bss_end;)
+    *p++ = 0;
   arbor_paint_stack();
   __libc_init_array();
   const int rc = main();
@@ -57,23 +59,28 @@ static inline uint32_t* current_sp(void) {
 
 void arbor_paint_stack(void) {
   uint32_t* const sp = current_sp() - 16; /* keep clear of our own frame */
-  for (uint32_t* p = __stack_limit; p < sp; ++p) *p = ARBOR_STACK_PAINT;
+  for (uint32_t* p = __stack_limit; p < sp; ++p)
+    *p = ARBOR_STACK_PAINT;
 }
 
 uint32_t arbor_stack_high_water(void) {
   const uint32_t* p = __stack_limit;
-  while (p < __stack_top && *p == ARBOR_STACK_PAINT) ++p;
+  while (p < __stack_top && *p == ARBOR_STACK_PAINT)
+    ++p;
   return (uint32_t)((const char*)__stack_top - (const char*)p);
 }
 
-uint32_t arbor_stack_size(void) { return (uint32_t)((char*)__stack_top - (char*)__stack_limit); }
+uint32_t arbor_stack_size(void) {
+  return (uint32_t)((char*)__stack_top - (char*)__stack_limit);
+}
 
 /* ---- faults -------------------------------------------------------------------------------- */
 static void hex(char* out, uint32_t v) {
   static const char digits[] = "0123456789abcdef";
   out[0] = '0';
   out[1] = 'x';
-  for (int i = 0; i < 8; ++i) out[2 + i] = digits[(v >> (28 - 4 * i)) & 0xf];
+  for (int i = 0; i < 8; ++i)
+    out[2 + i] = digits[(v >> (28 - 4 * i)) & 0xf];
   out[10] = 0;
 }
 
@@ -100,16 +107,17 @@ __attribute__((used)) void arbor_fault_report(const char* what, uint32_t* frame)
 }
 
 /* Each handler finds the stacked exception frame (MSP or PSP by EXC_RETURN bit 2). */
-#define ARBOR_FAULT_HANDLER(fn, label)              \
-  __attribute__((naked)) void fn(void) {            \
-    __asm volatile(                                 \
-        "tst lr, #4            \n"                  \
-        "ite eq                \n"                  \
-        "mrseq r1, msp         \n"                  \
-        "mrsne r1, psp         \n"                  \
-        "ldr r0, =" #fn "_name \n"                  \
-        "b arbor_fault_report  \n");                \
-  }                                                 \
+#define ARBOR_FAULT_HANDLER(fn, label)   \
+  __attribute__((naked)) void fn(void) { \
+    __asm volatile(                      \
+        "tst lr, #4            \n"       \
+        "ite eq                \n"       \
+        "mrseq r1, msp         \n"       \
+        "mrsne r1, psp         \n"       \
+        "ldr r0, =" #fn                  \
+        "_name \n"                       \
+        "b arbor_fault_report  \n");     \
+  }                                      \
   const char fn##_name[] __attribute__((used)) = label;
 
 ARBOR_FAULT_HANDLER(HardFault_Handler, "HardFault")
@@ -120,7 +128,9 @@ ARBOR_FAULT_HANDLER(Default_Handler, "unexpected interrupt")
 
 /* ---- SysTick: 24-bit down-counter extended in software, for cycle/instruction counts ------- */
 static volatile uint32_t systick_wraps;
-void SysTick_Handler(void) { ++systick_wraps; }
+void SysTick_Handler(void) {
+  ++systick_wraps;
+}
 
 #define SYST_CSR (*(volatile uint32_t*)0xE000E010)
 #define SYST_RVR (*(volatile uint32_t*)0xE000E014)
@@ -129,9 +139,11 @@ void SysTick_Handler(void) { ++systick_wraps; }
 void arbor_ticks_start(void) {
   SYST_CSR = 0;
   SYST_RVR = 0x00FFFFFF;
-  SYST_CVR = 0;
+  SYST_CVR = 0; /* clears the counter; it reloads from RVR on the next tick */
+  SYST_CSR = 0x7; /* enable, interrupt on wrap, processor clock */
+  while (SYST_CVR == 0) {
+  }
   systick_wraps = 0;
-  SYST_CSR = 0x7; /* processor clock... QEMU's MPS2 uses the external 25 MHz reference */
 }
 
 uint64_t arbor_ticks(void) {

@@ -35,7 +35,8 @@ void* __wrap_realloc(void* p, size_t n) {
   heap_trap("realloc");
 }
 void __wrap_free(void* p) {
-  if (p) heap_trap("free");
+  if (p)
+    heap_trap("free");
 }
 void* __wrap__malloc_r(void* reent, size_t n) {
   (void)reent;
@@ -48,7 +49,9 @@ void abort(void) {
   arbor_exit(ARBOR_EXIT_ABORT);
 }
 
-void _exit(int code) { arbor_exit(code); }
+void _exit(int code) {
+  arbor_exit(code);
+}
 
 int _write(int fd, const char* buf, int len) {
   (void)fd;
@@ -56,7 +59,8 @@ int _write(int fd, const char* buf, int len) {
   int done = 0;
   while (done < len) {
     int n = len - done < 128 ? len - done : 128;
-    for (int i = 0; i < n; ++i) chunk[i] = buf[done + i];
+    for (int i = 0; i < n; ++i)
+      chunk[i] = buf[done + i];
     chunk[n] = 0;
     arbor_puts(chunk);
     done += n;
@@ -96,4 +100,6 @@ int _kill(int pid, int sig) {
   errno = EINVAL;
   return -1;
 }
-int _getpid(void) { return 1; }
+int _getpid(void) {
+  return 1;
+}

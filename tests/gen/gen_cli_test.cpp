@@ -35,7 +35,8 @@ fs::path scratch() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = std::string(info->test_suite_name()) + "_" + info->name();
   for (char& c : name)
-    if (c == '/') c = '_';
+    if (c == '/')
+      c = '_';
   const fs::path dir = fs::path(ARBOR_TEST_TMP) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -44,8 +45,8 @@ fs::path scratch() {
 
 GenResult run(const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = "'" + kGen + "' " + args + " >'" + out.string() + "' 2>'" +
-                          err.string() + "'";
+  const std::string cmd =
+      "'" + kGen + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
   const int raw = std::system(cmd.c_str());
   GenResult r{WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
   fs::remove(out);
@@ -55,7 +56,8 @@ GenResult run(const std::string& args, const fs::path& dir) {
 
 std::size_t files_in(const fs::path& dir) {
   std::size_t n = 0;
-  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++n;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir))
+    ++n;
   return n;
 }
 
@@ -109,8 +111,8 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(GeneratorInput, UnreadableFile) {
   const fs::path dir = scratch();
-  const GenResult r = run("'" + kData + "/bad/does_not_exist.urdf' -o '" + (dir / "x.hpp").string() + "'",
-                    dir);
+  const GenResult r =
+      run("'" + kData + "/bad/does_not_exist.urdf' -o '" + (dir / "x.hpp").string() + "'", dir);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("does_not_exist.urdf: cannot read: No such file"), std::string::npos)
       << r.err;
@@ -147,8 +149,8 @@ class BadOption : public ::testing::TestWithParam<OptionCase> {};
 TEST_P(BadOption, Rejected) {
   const fs::path dir = scratch();
   const fs::path header = dir / "robot.hpp";
-  const GenResult r = run("'" + kRobots + "/yumi.urdf' -o '" + header.string() + "' " + GetParam().args,
-                    dir);
+  const GenResult r =
+      run("'" + kRobots + "/yumi.urdf' -o '" + header.string() + "' " + GetParam().args, dir);
   EXPECT_EQ(r.status, GetParam().status);
   EXPECT_NE(r.err.find(GetParam().expected), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(header));
@@ -201,20 +203,20 @@ TEST(GeneratorYumi, MimicJointsAreRejectedByDefault) {
 
 TEST(GeneratorYumi, LockingTheGrippersSucceeds) {
   const fs::path dir = scratch();
-  const GenResult r = run("'" + kRobots + "/yumi.urdf' -o - --lock gripper_r_joint=0 "
-                    "--lock gripper_l_joint=0.01",
-                    dir);
+  const GenResult r = run("'" + kRobots +
+                              "/yumi.urdf' -o - --lock gripper_r_joint=0 "
+                              "--lock gripper_l_joint=0.01",
+                          dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("static constexpr int nv = 14;"), std::string::npos);
-  EXPECT_NE(r.err.find("gripper_r_joint_m mimics locked joint gripper_r_joint"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("gripper_r_joint_m mimics locked joint gripper_r_joint"), std::string::npos)
       << r.err;
 }
 
 TEST(GeneratorYumi, TipsOnTheArmFlangesSucceed) {
   const fs::path dir = scratch();
-  const GenResult r = run("'" + kRobots + "/yumi.urdf' -o - --tip yumi_link_7_r --tip yumi_link_7_l",
-                    dir);
+  const GenResult r =
+      run("'" + kRobots + "/yumi.urdf' -o - --tip yumi_link_7_r --tip yumi_link_7_l", dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("static constexpr int nv = 14;"), std::string::npos);
   EXPECT_EQ(r.out.find("gripper"), std::string::npos) << "gripper links must be dropped";
@@ -223,8 +225,10 @@ TEST(GeneratorYumi, TipsOnTheArmFlangesSucceed) {
 // ---- output properties -------------------------------------------------------------------
 TEST(GeneratorOutput, DeterministicBytesAndBanner) {
   const fs::path dir = scratch();
-  const GenResult a = run("'" + kRobots + "/iiwa7.urdf' -o '" + (dir / "a.hpp").string() + "'", dir);
-  const GenResult b = run("'" + kRobots + "/iiwa7.urdf' -o '" + (dir / "b.hpp").string() + "'", dir);
+  const GenResult a =
+      run("'" + kRobots + "/iiwa7.urdf' -o '" + (dir / "a.hpp").string() + "'", dir);
+  const GenResult b =
+      run("'" + kRobots + "/iiwa7.urdf' -o '" + (dir / "b.hpp").string() + "'", dir);
   ASSERT_EQ(a.status, 0);
   ASSERT_EQ(b.status, 0);
   const std::string text = slurp(dir / "a.hpp");
@@ -261,8 +265,8 @@ TEST(GeneratorOutput, CreatesTheOutputFolder) {
 // exactly as clang-format with the project's style writes it.
 TEST(GeneratorOutput, HeadersAreClangFormatClean) {
   const fs::path dir = scratch();
-  for (const char* robot : {"double_pendulum", "iiwa7", "kinova_gen3", "yumi_no_grippers",
-                            "atlas"}) {
+  for (const char* robot :
+       {"double_pendulum", "iiwa7", "kinova_gen3", "yumi_no_grippers", "atlas"}) {
     const fs::path header = dir / (std::string(robot) + ".hpp");
     ASSERT_EQ(run("'" + kRobots + "/" + robot + ".urdf' -o '" + header.string() + "'", dir).status,
               0);

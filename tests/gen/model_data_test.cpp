@@ -44,7 +44,8 @@ std::vector<std::string> reference_joints(const std::string& robot) {
     if (line.rfind("joints ", 0) == 0) {
       std::istringstream s(line.substr(7));
       std::vector<std::string> names;
-      for (std::string n; s >> n;) names.push_back(n);
+      for (std::string n; s >> n;)
+        names.push_back(n);
       return names;
     }
   }
@@ -65,11 +66,14 @@ void expect_depth_first() {
     int end = i + 1;
     auto below = [&](int j) {
       for (int k = j; k >= 0; k = R::parent[k])
-        if (k == i) return true;
+        if (k == i)
+          return true;
       return false;
     };
-    while (end < R::nb && below(end)) ++end;
-    for (int j = end; j < R::nb; ++j) EXPECT_FALSE(below(j)) << R::name << " body " << j;
+    while (end < R::nb && below(end))
+      ++end;
+    for (int j = end; j < R::nb; ++j)
+      EXPECT_FALSE(below(j)) << R::name << " body " << j;
   }
 }
 
@@ -95,10 +99,10 @@ TEST(ModelData, DegreesOfFreedom) {
 
 TEST(ModelData, JointNamesAndOrder) {
   EXPECT_EQ(joint_names<DoublePendulum>(), (std::vector<std::string>{"joint1", "joint2"}));
-  EXPECT_EQ(joint_names<Iiwa7>(),
-            (std::vector<std::string>{"iiwa_joint_1", "iiwa_joint_2", "iiwa_joint_3",
-                                      "iiwa_joint_4", "iiwa_joint_5", "iiwa_joint_6",
-                                      "iiwa_joint_7"}));
+  EXPECT_EQ(
+      joint_names<Iiwa7>(),
+      (std::vector<std::string>{"iiwa_joint_1", "iiwa_joint_2", "iiwa_joint_3", "iiwa_joint_4",
+                                "iiwa_joint_5", "iiwa_joint_6", "iiwa_joint_7"}));
   EXPECT_EQ(joint_names<KinovaGen3>(),
             (std::vector<std::string>{"joint_1", "joint_2", "joint_3", "joint_4", "joint_5",
                                       "joint_6", "joint_7"}));
@@ -124,10 +128,14 @@ TEST(ModelData, JointNamesAndOrder) {
 
 TEST(ModelData, JointKinds) {
   // Both pendulum axes are "1 0 0"; every arm joint is about +Z in its own frame.
-  for (auto k : DoublePendulum::joint_kind) EXPECT_EQ(k, JointKind::RevoluteX);
-  for (auto k : Iiwa7::joint_kind) EXPECT_EQ(k, JointKind::RevoluteZ);
-  for (auto k : KinovaGen3::joint_kind) EXPECT_EQ(k, JointKind::RevoluteZ);
-  for (auto k : YumiNoGrippers::joint_kind) EXPECT_EQ(k, JointKind::RevoluteZ);
+  for (auto k : DoublePendulum::joint_kind)
+    EXPECT_EQ(k, JointKind::RevoluteX);
+  for (auto k : Iiwa7::joint_kind)
+    EXPECT_EQ(k, JointKind::RevoluteZ);
+  for (auto k : KinovaGen3::joint_kind)
+    EXPECT_EQ(k, JointKind::RevoluteZ);
+  for (auto k : YumiNoGrippers::joint_kind)
+    EXPECT_EQ(k, JointKind::RevoluteZ);
   // Atlas: l_arm_shx has axis "-1 0 0" in the URDF (kept as RevoluteX with a negative axis).
   const int shx = arbor::model::joint_index<Atlas>("l_arm_shx");
   ASSERT_GE(shx, 0);
@@ -179,8 +187,8 @@ TEST(ModelData, TotalMass) {
 }
 
 TEST(ModelData, EveryLinkIsAFrame) {
-  EXPECT_EQ(Iiwa7::nf, 10);        // world, iiwa_link_0..7, iiwa_link_ee
-  EXPECT_EQ(KinovaGen3::nf, 12);   // 12 links
+  EXPECT_EQ(Iiwa7::nf, 10);       // world, iiwa_link_0..7, iiwa_link_ee
+  EXPECT_EQ(KinovaGen3::nf, 12);  // 12 links
   EXPECT_EQ(YumiNoGrippers::nf, 17);
   EXPECT_EQ(Atlas::nf, 70);
   const int ee = arbor::model::frame_index<Iiwa7>("iiwa_link_ee");
@@ -225,7 +233,8 @@ TEST(MergedUrdf, MergedInertiaByHand) {
   EXPECT_NEAR(Y.com[2], 0.0, 1e-14);
   const double expected[3][3] = {{3.75, 0.75, 0}, {0.75, 3.75, 0}, {0, 0, 5.5}};
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) EXPECT_NEAR(Y.I[i][j], expected[i][j], 1e-12) << i << j;
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(Y.I[i][j], expected[i][j], 1e-12) << i << j;
   // The massless tool merges into d without changing it; the base has no mass.
   EXPECT_EQ(MergedTest::body_inertia[2].mass, 0.5);
   EXPECT_EQ(MergedTest::base_inertia.mass, 0.0);
@@ -237,7 +246,8 @@ TEST(MergedUrdf, PlacementsThroughFixedJoints) {
   const auto& X = MergedTest::joint_placement[1];
   const double Rx90[3][3] = {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}};
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) EXPECT_EQ(X.R[i][j], Rx90[i][j]);  // snapped exactly
+    for (int j = 0; j < 3; ++j)
+      EXPECT_EQ(X.R[i][j], Rx90[i][j]);  // snapped exactly
   EXPECT_NEAR(X.p[0], 1.0, 1e-15);
   EXPECT_NEAR(X.p[1], -0.5, 1e-15);
   EXPECT_NEAR(X.p[2], 0.0, 1e-15);

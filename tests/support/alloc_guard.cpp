@@ -22,11 +22,13 @@ thread_local int active_depth = 0;
 thread_local std::size_t recorded = 0;
 
 inline void note_allocation() {
-  if (active_depth > 0) ++recorded;
+  if (active_depth > 0)
+    ++recorded;
 }
 
 void* aligned(std::size_t alignment, std::size_t size) {
-  if (alignment < sizeof(void*)) alignment = sizeof(void*);
+  if (alignment < sizeof(void*))
+    alignment = sizeof(void*);
   return __libc_memalign(alignment, size ? size : 1);
 }
 
@@ -46,7 +48,9 @@ void* realloc(void* p, std::size_t n) {
   note_allocation();
   return __libc_realloc(p, n);
 }
-void free(void* p) { __libc_free(p); }
+void free(void* p) {
+  __libc_free(p);
+}
 void* aligned_alloc(std::size_t alignment, std::size_t n) {
   note_allocation();
   return aligned(alignment, n);
@@ -58,7 +62,8 @@ void* memalign(std::size_t alignment, std::size_t n) {
 int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
   note_allocation();
   void* p = aligned(alignment, n);
-  if (!p) return ENOMEM;
+  if (!p)
+    return ENOMEM;
   *out = p;
   return 0;
 }
@@ -69,35 +74,67 @@ namespace {
 void* checked_new(std::size_t n) {
   note_allocation();
   void* p = __libc_malloc(n ? n : 1);
-  if (!p) std::abort();
+  if (!p)
+    std::abort();
   return p;
 }
 void* checked_new_aligned(std::size_t n, std::align_val_t a) {
   note_allocation();
   void* p = aligned(static_cast<std::size_t>(a), n);
-  if (!p) std::abort();
+  if (!p)
+    std::abort();
   return p;
 }
 }  // namespace
 
-void* operator new(std::size_t n) { return checked_new(n); }
-void* operator new[](std::size_t n) { return checked_new(n); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return checked_new(n); }
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return checked_new(n); }
-void* operator new(std::size_t n, std::align_val_t a) { return checked_new_aligned(n, a); }
-void* operator new[](std::size_t n, std::align_val_t a) { return checked_new_aligned(n, a); }
-void operator delete(void* p) noexcept { __libc_free(p); }
-void operator delete[](void* p) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t) noexcept { __libc_free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { __libc_free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { __libc_free(p); }
+void* operator new(std::size_t n) {
+  return checked_new(n);
+}
+void* operator new[](std::size_t n) {
+  return checked_new(n);
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return checked_new(n);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  return checked_new(n);
+}
+void* operator new(std::size_t n, std::align_val_t a) {
+  return checked_new_aligned(n, a);
+}
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return checked_new_aligned(n, a);
+}
+void operator delete(void* p) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::size_t) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
+  __libc_free(p);
+}
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
+  __libc_free(p);
+}
 
 namespace arbor::test {
 
-std::size_t guarded_allocations() { return recorded; }
+std::size_t guarded_allocations() {
+  return recorded;
+}
 
 NoAllocScope::NoAllocScope() : start_(recorded) {
 #ifdef EIGEN_RUNTIME_NO_MALLOC
@@ -120,6 +157,8 @@ NoAllocScope::~NoAllocScope() {
   }
 }
 
-std::size_t NoAllocScope::count() const { return recorded - start_; }
+std::size_t NoAllocScope::count() const {
+  return recorded - start_;
+}
 
 }  // namespace arbor::test

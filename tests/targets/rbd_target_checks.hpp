@@ -15,19 +15,19 @@ namespace arbor::test {
 
 /// Pointers into one robot's constexpr reference arrays (tests/targets/reference_header.cmake).
 struct RefView {
-  int nv;                         ///< DoF
-  int samples;                    ///< number of samples
-  const std::string_view* joints; ///< the reference's joint order
-  const double *q, *v, *a, *tau;  ///< inputs, [samples][nv]
+  int nv;                                    ///< DoF
+  int samples;                               ///< number of samples
+  const std::string_view* joints;            ///< the reference's joint order
+  const double *q, *v, *a, *tau;             ///< inputs, [samples][nv]
   const double *rnea, *aba, *gravity, *nle;  ///< vector outputs, [samples][nv]
   const double *crba, *minv;                 ///< matrix outputs, [samples][nv * nv]
 };
 
-#define ARBOR_REF_VIEW(ns)                                                                  \
-  ::arbor::test::RefView {                                                                  \
+#define ARBOR_REF_VIEW(ns)                                                                     \
+  ::arbor::test::RefView {                                                                     \
     ns::nv, ns::samples, ns::joints, &ns::q[0][0], &ns::v[0][0], &ns::a[0][0], &ns::tau[0][0], \
-        &ns::rnea[0][0], &ns::aba[0][0], &ns::gravity[0][0], &ns::nle[0][0], &ns::crba[0][0], \
-        &ns::minv[0][0]                                                                     \
+        &ns::rnea[0][0], &ns::aba[0][0], &ns::gravity[0][0], &ns::nle[0][0], &ns::crba[0][0],  \
+        &ns::minv[0][0]                                                                        \
   }
 
 /// Norm-wise relative tolerances per quantity and scalar.
@@ -41,9 +41,9 @@ struct Tolerance<double> {
 };
 template <>
 struct Tolerance<float> {
-  static constexpr double id = 2e-4;
-  static constexpr double mass = 2e-4;
-  static constexpr double fd = 5e-3;
+  static constexpr double id = 5e-6;
+  static constexpr double mass = 5e-6;
+  static constexpr double fd = 5e-5;
 };
 
 /// Runs rnea, gravity, nle, crba, aba and minverse on every reference sample and returns the
@@ -55,12 +55,13 @@ struct RbdErrors {
 template <Robot R, class S>
 RbdErrors rbd_errors(const RefView& ref) {
   using D = Data<R, S>;
-  static D data;  // static storage, as firmware would keep it
+  static D data;    // static storage, as firmware would keep it
   int perm[R::nv];  // perm[ours] = reference index, matched by joint name
   for (int i = 0; i < R::nv; ++i) {
     perm[i] = -1;
     for (int j = 0; j < ref.nv; ++j)
-      if (ref.joints[j] == R::joint_names[i]) perm[i] = j;
+      if (ref.joints[j] == R::joint_names[i])
+        perm[i] = j;
   }
   RbdErrors e;
   auto rel_vec = [&](const typename D::Vector& x, const double* r) {
@@ -105,11 +106,14 @@ RbdErrors rbd_errors(const RefView& ref) {
 /// Every joint of the robot appears in the reference (same joint set, any order).
 template <Robot R>
 bool joints_match(const RefView& ref) {
-  if (ref.nv != R::nv) return false;
+  if (ref.nv != R::nv)
+    return false;
   for (int i = 0; i < R::nv; ++i) {
     bool found = false;
-    for (int j = 0; j < ref.nv; ++j) found = found || ref.joints[j] == R::joint_names[i];
-    if (!found) return false;
+    for (int j = 0; j < ref.nv; ++j)
+      found = found || ref.joints[j] == R::joint_names[i];
+    if (!found)
+      return false;
   }
   return true;
 }

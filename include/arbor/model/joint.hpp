@@ -28,7 +28,9 @@ constexpr bool is_revolute(JointKind k) {
 }
 
 /// True for the four prismatic kinds.
-constexpr bool is_prismatic(JointKind k) { return !is_revolute(k); }
+constexpr bool is_prismatic(JointKind k) {
+  return !is_revolute(k);
+}
 
 /// True when the axis is a signed coordinate axis of the joint frame.
 constexpr bool is_aligned(JointKind k) {

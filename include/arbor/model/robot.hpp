@@ -37,8 +37,12 @@ concept ArrayOf = requires(const T& a) {
   { a.size() } -> std::convertible_to<std::size_t>;
 };
 
-constexpr double abs(double x) { return x < 0 ? -x : x; }
-constexpr bool finite(double x) { return x == x && x - x == 0.0; }
+constexpr double abs(double x) {
+  return x < 0 ? -x : x;
+}
+constexpr bool finite(double x) {
+  return x == x && x - x == 0.0;
+}
 
 }  // namespace detail
 
@@ -68,26 +72,29 @@ concept RobotModel = requires {
 /// Problems a robot's data can have; checked at compile time by `check_robot`.
 enum class RobotError {
   none,
-  sizes,            ///< nq, nv, nb disagree, or nb < 1
-  topology,         ///< parent[i] is not in [-1, i)
-  axis,             ///< joint axis is not a unit vector, or an aligned kind with another axis
-  rotation,         ///< a placement's rotation is not orthonormal with determinant +1
-  mass,             ///< a mass is negative or non-finite, or a centre of mass is non-finite
-  massless_subtree, ///< a DoF moves no mass at all: the mass matrix would be singular
-  inertia,          ///< a rotational inertia is not symmetric positive semi-definite
-  limits,           ///< lower > upper, or a negative velocity/effort limit
-  frame,            ///< a frame refers to a body that does not exist
+  sizes,             ///< nq, nv, nb disagree, or nb < 1
+  topology,          ///< parent[i] is not in [-1, i)
+  axis,              ///< joint axis is not a unit vector, or an aligned kind with another axis
+  rotation,          ///< a placement's rotation is not orthonormal with determinant +1
+  mass,              ///< a mass is negative or non-finite, or a centre of mass is non-finite
+  massless_subtree,  ///< a DoF moves no mass at all: the mass matrix would be singular
+  inertia,           ///< a rotational inertia is not symmetric positive semi-definite
+  limits,            ///< lower > upper, or a negative velocity/effort limit
+  frame,             ///< a frame refers to a body that does not exist
 };
 
 namespace detail {
 
 constexpr bool rotation_ok(const Placement& X) {
   for (int i = 0; i < 3; ++i) {
-    if (!finite(X.p[i])) return false;
+    if (!finite(X.p[i]))
+      return false;
     for (int j = 0; j < 3; ++j) {
       double d = 0;
-      for (int k = 0; k < 3; ++k) d += X.R[k][i] * X.R[k][j];
-      if (abs(d - (i == j ? 1.0 : 0.0)) > 1e-9) return false;
+      for (int k = 0; k < 3; ++k)
+        d += X.R[k][i] * X.R[k][j];
+      if (abs(d - (i == j ? 1.0 : 0.0)) > 1e-9)
+        return false;
     }
   }
   const auto& R = X.R;
@@ -98,11 +105,14 @@ constexpr bool rotation_ok(const Placement& X) {
 }
 
 constexpr bool inertia_ok(const Inertia& Y) {
-  if (!finite(Y.mass) || Y.mass < 0) return false;
+  if (!finite(Y.mass) || Y.mass < 0)
+    return false;
   for (int i = 0; i < 3; ++i) {
-    if (!finite(Y.com[i])) return false;
+    if (!finite(Y.com[i]))
+      return false;
     for (int j = 0; j < 3; ++j)
-      if (!finite(Y.I[i][j])) return false;
+      if (!finite(Y.I[i][j]))
+        return false;
   }
   return true;
 }
@@ -113,14 +123,17 @@ constexpr bool inertia_psd(const Inertia& Y) {
   const double tol = 1e-9 * scale;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
-      if (abs(I[i][j] - I[j][i]) > tol) return false;
+      if (abs(I[i][j] - I[j][i]) > tol)
+        return false;
   // Sylvester-style check with tolerance: diagonal, 2x2 minors and determinant non-negative.
-  if (I[0][0] < -tol || I[1][1] < -tol || I[2][2] < -tol) return false;
+  if (I[0][0] < -tol || I[1][1] < -tol || I[2][2] < -tol)
+    return false;
   const double m01 = I[0][0] * I[1][1] - I[0][1] * I[0][1];
   const double m02 = I[0][0] * I[2][2] - I[0][2] * I[0][2];
   const double m12 = I[1][1] * I[2][2] - I[1][2] * I[1][2];
   const double tol2 = tol * scale;
-  if (m01 < -tol2 || m02 < -tol2 || m12 < -tol2) return false;
+  if (m01 < -tol2 || m02 < -tol2 || m12 < -tol2)
+    return false;
   const double det = I[0][0] * m12 - I[0][1] * (I[0][1] * I[2][2] - I[1][2] * I[0][2]) +
                      I[0][2] * (I[0][1] * I[1][2] - I[1][1] * I[0][2]);
   return det >= -tol2 * scale;
@@ -132,40 +145,54 @@ constexpr bool inertia_psd(const Inertia& Y) {
 template <RobotModel R>
 constexpr RobotError check_robot() {
   using detail::abs;
-  if (R::nb < 1 || R::nq != R::nb || R::nv != R::nb) return RobotError::sizes;
+  if (R::nb < 1 || R::nq != R::nb || R::nv != R::nb)
+    return RobotError::sizes;
   for (int i = 0; i < R::nb; ++i)
-    if (R::parent[i] < -1 || R::parent[i] >= i) return RobotError::topology;
+    if (R::parent[i] < -1 || R::parent[i] >= i)
+      return RobotError::topology;
   for (int i = 0; i < R::nb; ++i) {
     const Vec3& a = R::joint_axis[i];
     const double n2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
-    if (abs(n2 - 1.0) > 1e-12) return RobotError::axis;
+    if (abs(n2 - 1.0) > 1e-12)
+      return RobotError::axis;
     const int k = axis_index(R::joint_kind[i]);
     if (k >= 0) {
       for (int j = 0; j < 3; ++j)
-        if (j != k && a[j] != 0.0) return RobotError::axis;
-      if (a[k] != 1.0 && a[k] != -1.0) return RobotError::axis;
+        if (j != k && a[j] != 0.0)
+          return RobotError::axis;
+      if (a[k] != 1.0 && a[k] != -1.0)
+        return RobotError::axis;
     }
-    if (!detail::rotation_ok(R::joint_placement[i])) return RobotError::rotation;
+    if (!detail::rotation_ok(R::joint_placement[i]))
+      return RobotError::rotation;
   }
-  if (!detail::inertia_ok(R::base_inertia)) return RobotError::mass;
+  if (!detail::inertia_ok(R::base_inertia))
+    return RobotError::mass;
   for (int i = 0; i < R::nb; ++i) {
-    if (!detail::inertia_ok(R::body_inertia[i])) return RobotError::mass;
-    if (!detail::inertia_psd(R::body_inertia[i])) return RobotError::inertia;
+    if (!detail::inertia_ok(R::body_inertia[i]))
+      return RobotError::mass;
+    if (!detail::inertia_psd(R::body_inertia[i]))
+      return RobotError::inertia;
   }
   // Subtree masses: children come after parents, so accumulate backwards.
   std::array<double, std::size_t(R::nb)> subtree{};
   for (int i = R::nb - 1; i >= 0; --i) {
     subtree[i] += R::body_inertia[i].mass;
-    if (!(subtree[i] > 0)) return RobotError::massless_subtree;
-    if (R::parent[i] >= 0) subtree[R::parent[i]] += subtree[i];
+    if (!(subtree[i] > 0))
+      return RobotError::massless_subtree;
+    if (R::parent[i] >= 0)
+      subtree[R::parent[i]] += subtree[i];
   }
   for (int i = 0; i < R::nv; ++i) {
     const Limits& l = R::limits[i];
-    if (l.lower > l.upper || l.velocity < 0 || l.effort < 0) return RobotError::limits;
+    if (l.lower > l.upper || l.velocity < 0 || l.effort < 0)
+      return RobotError::limits;
   }
   for (int f = 0; f < R::nf; ++f) {
-    if (R::frames[f].body < -1 || R::frames[f].body >= R::nb) return RobotError::frame;
-    if (!detail::rotation_ok(R::frames[f].placement)) return RobotError::rotation;
+    if (R::frames[f].body < -1 || R::frames[f].body >= R::nb)
+      return RobotError::frame;
+    if (!detail::rotation_ok(R::frames[f].placement))
+      return RobotError::rotation;
   }
   return RobotError::none;
 }
@@ -173,7 +200,7 @@ constexpr RobotError check_robot() {
 /// The full contract: the members exist and every invariant holds. Algorithms take
 /// `template <Robot R>`; `static_assert(check_robot<R>() == RobotError::none)` names the problem.
 template <class R>
-concept Robot = RobotModel<R> && (check_robot<R>() == RobotError::none);
+concept Robot = RobotModel<R> &&(check_robot<R>() == RobotError::none);
 
 /// Compile-time validation with one message per kind of problem; use as
 /// `static_assert(arbor::model::validate<MyRobot>())`. Generated headers end with it.
@@ -197,7 +224,8 @@ consteval bool validate() {
 template <RobotModel R>
 constexpr double total_mass() {
   double m = R::base_inertia.mass;
-  for (int i = 0; i < R::nb; ++i) m += R::body_inertia[i].mass;
+  for (int i = 0; i < R::nb; ++i)
+    m += R::body_inertia[i].mass;
   return m;
 }
 
@@ -205,7 +233,8 @@ constexpr double total_mass() {
 template <RobotModel R>
 constexpr int body_index(std::string_view name) {
   for (int i = 0; i < R::nb; ++i)
-    if (R::body_names[i] == name) return i;
+    if (R::body_names[i] == name)
+      return i;
   return -1;
 }
 
@@ -213,7 +242,8 @@ constexpr int body_index(std::string_view name) {
 template <RobotModel R>
 constexpr int joint_index(std::string_view name) {
   for (int i = 0; i < R::nb; ++i)
-    if (R::joint_names[i] == name) return i;
+    if (R::joint_names[i] == name)
+      return i;
   return -1;
 }
 
@@ -221,7 +251,8 @@ constexpr int joint_index(std::string_view name) {
 template <RobotModel R>
 constexpr int frame_index(std::string_view name) {
   for (int i = 0; i < R::nf; ++i)
-    if (R::frames[i].name == name) return i;
+    if (R::frames[i].name == name)
+      return i;
   return -1;
 }
 
