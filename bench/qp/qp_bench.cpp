@@ -1,0 +1,140 @@
+// Host benchmarks of the OCP QP solver at the size of the paper's Kinova Gen3 NMPC (N = 16,
+// nx = 16, nu = 8): OCP-FD (1 path row per stage) and OCP-ID (8 rows per stage), double and float.
+//   cold:   setup + cold start + solve
+//   warm:   solve of a perturbed problem (x0 shifted, costs perturbed by 1 %) from the solution of
+//           the nominal one (the copy of the iterate, a few us, is inside the timing)
+//   factor: one full block-tridiagonal factorization (all 17 stages)
+// Counters: iterations, active-set changes, stage blocks factorized per solve, solver bytes.
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstdint>
+
+#include "arbor/qp/ocp_qp_solver.hpp"
+#include "kinova_qp.hpp"
+
+namespace {
+using arbor::bench::KinovaQp;
+using arbor::bench::make_kinova_qp;
+using arbor::qp::OcpQpSolver;
+using arbor::qp::QpStatus;
+
+template <typename Qp>
+struct Fixture {
+  Qp nominal;
+  Qp perturbed;
+  OcpQpSolver<Qp> solver;
+  Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::nv, 1> x0;
+  Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::nv, 1> lx0;
+  Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::na, 1> la0;
+  arbor::qp::QpSettings<typename decltype(nominal.terminal.q)::Scalar> settings;
+  Fixture() {
+    settings.max_iter = 1000;  // a cold start needs one iteration per active-set change
+    make_kinova_qp(nominal, 1);
+    make_kinova_qp(perturbed, 1, 1e-3, 0.01);
+    solver.setup(nominal, settings);
+    solver.cold_start();
+    solver.solve();
+    x0 = solver.x();
+    lx0 = solver.lam_x();
+    la0 = solver.lam_a();
+  }
+};
+
+template <typename Qp>
+Fixture<Qp>& fixture() {
+  static Fixture<Qp> f;  // ~0.3 MB: static storage
+  return f;
+}
+
+template <typename Qp>
+void report(benchmark::State& state, const OcpQpSolver<Qp>& s, QpStatus st) {
+  state.counters["iterations"] = s.info().iterations;
+  state.counters["changes"] = s.info().active_set_changes;
+  state.counters["stages_factorized"] = s.info().stages_factorized;
+  state.counters["solved"] = st == QpStatus::solved ? 1 : 0;
+  state.counters["solver_bytes"] = sizeof(OcpQpSolver<Qp>);
+  state.counters["problem_bytes"] = sizeof(Qp);
+}
+
+template <typename Qp>
+void bm_cold(benchmark::State& state) {
+  auto& f = fixture<Qp>();
+  QpStatus st = QpStatus::not_setup;
+  for (auto _ : state) {
+    f.solver.setup(f.perturbed, f.settings);
+    f.solver.cold_start();
+    st = f.solver.solve();
+    benchmark::DoNotOptimize(f.solver.x().data());
+  }
+  report(state, f.solver, st);
+}
+
+template <typename Qp>
+void bm_warm(benchmark::State& state) {
+  auto& f = fixture<Qp>();
+  f.solver.setup(f.perturbed, f.settings);
+  QpStatus st = QpStatus::not_setup;
+  for (auto _ : state) {
+    f.solver.x() = f.x0;
+    f.solver.lam_x() = f.lx0;
+    f.solver.lam_a() = f.la0;
+    st = f.solver.solve();
+    benchmark::DoNotOptimize(f.solver.x().data());
+  }
+  report(state, f.solver, st);
+}
+
+template <typename Qp>
+void bm_factor(benchmark::State& state) {
+  using Scalar = typename decltype(Qp{}.terminal.q)::Scalar;
+  static arbor::qp::detail::OcpBackend<Scalar, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn> be;
+  static std::array<std::int8_t, Qp::nv + Qp::na> ws{};
+  auto& f = fixture<Qp>();
+  be.p = &f.nominal;
+  for (int i = 0; i < Qp::nv + Qp::na; ++i)
+    ws[i] = i >= Qp::nv ? 2 : 0;  // dynamics rows
+  for (int i = 0; i < 16; ++i)
+    ws[i] = 2;  // x_0 fixed
+  static Eigen::Matrix<Scalar, Qp::na, 1> wa;
+  be.row_norms_sq(wa);
+  const Scalar w = Scalar(1) / f.solver.settings().reg_dual;
+  for (int j = 0; j < Qp::na; ++j)
+    wa(j) = w / wa(j);
+  int done = 0;
+  for (auto _ : state) {
+    be.mark_all();
+    done = be.factorize(ws.data(), f.solver.settings().reg_primal, w, wa);
+    benchmark::DoNotOptimize(be.u_term.data());
+  }
+  state.counters["stages"] = done;
+}
+
+template <typename Qp>
+void bm_setup(benchmark::State& state) {
+  auto& f = fixture<Qp>();
+  for (auto _ : state)
+    benchmark::DoNotOptimize(f.solver.setup(f.perturbed, f.settings));
+}
+
+using FdD = KinovaQp<double, 1>;
+using IdD = KinovaQp<double, 8>;
+using FdF = KinovaQp<float, 1>;
+using IdF = KinovaQp<float, 8>;
+
+BENCHMARK(bm_cold<FdD>)->Name("fd_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<FdD>)->Name("fd_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<FdD>)->Name("fd_double/factor_full")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_setup<FdD>)->Name("fd_double/setup")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<IdD>)->Name("id_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<IdD>)->Name("id_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<IdD>)->Name("id_double/factor_full")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<FdF>)->Name("fd_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<FdF>)->Name("fd_float/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<FdF>)->Name("fd_float/factor_full")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<IdF>)->Name("id_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<IdF>)->Name("id_float/warm")->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,75 @@
+// Repeatable measure for RESULTS.md: one cold and one warm solve per variant, each between
+// callgrind toggles, plus the counters of each solve on stdout.
+//   valgrind --tool=callgrind --collect-atstart=no ./qp_count   (one dump per measured call)
+#include <cstdio>
+
+#include "arbor/qp/ocp_qp_solver.hpp"
+#include "kinova_qp.hpp"
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define ARBOR_MEASURE(label, stmt)   \
+  do {                               \
+    CALLGRIND_START_INSTRUMENTATION; \
+    stmt;                            \
+    CALLGRIND_STOP_INSTRUMENTATION;  \
+    CALLGRIND_DUMP_STATS_AT(label);  \
+  } while (0)
+#else
+#define ARBOR_MEASURE(label, stmt) stmt
+#endif
+
+namespace {
+using arbor::bench::KinovaQp;
+using arbor::bench::make_kinova_qp;
+using arbor::qp::OcpQpSolver;
+using arbor::qp::QpStatus;
+
+template <typename Qp>
+struct Case {
+  Qp nominal, perturbed;
+  OcpQpSolver<Qp> solver;
+};
+
+template <typename Qp>
+void run(const char* name) {
+  static Case<Qp> c;  // static storage: ~0.3 MB
+  make_kinova_qp(c.nominal, 1);
+  make_kinova_qp(c.perturbed, 1, 1e-3, 0.01);
+  using Scalar = typename decltype(c.nominal.terminal.q)::Scalar;
+  arbor::qp::QpSettings<Scalar> settings;
+  settings.max_iter = 1000;  // a cold start needs one iteration per active-set change
+  QpStatus st = QpStatus::not_setup;
+  char label[64];
+  std::snprintf(label, sizeof label, "%s/cold_nominal", name);
+  ARBOR_MEASURE(
+      label, (c.solver.setup(c.nominal, settings), c.solver.cold_start(), st = c.solver.solve()));
+  const auto& i = c.solver.info();
+  std::printf(
+      "%-10s cold nominal   %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
+      arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
+      i.active_constraints, double(i.primal_residual), double(i.dual_residual));
+  std::snprintf(label, sizeof label, "%s/warm_perturbed", name);
+  ARBOR_MEASURE(label, (c.solver.setup(c.perturbed, settings), st = c.solver.solve()));
+  std::printf(
+      "%-10s warm perturbed %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
+      arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
+      i.active_constraints, double(i.primal_residual), double(i.dual_residual));
+  std::snprintf(label, sizeof label, "%s/cold_perturbed", name);
+  ARBOR_MEASURE(label, (c.solver.cold_start(), st = c.solver.solve()));
+  std::printf(
+      "%-10s cold perturbed %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
+      arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
+      i.active_constraints, double(i.primal_residual), double(i.dual_residual));
+  std::printf("%-10s sizeof(solver) %zu bytes, sizeof(problem) %zu bytes\n", name,
+              sizeof(OcpQpSolver<Qp>), sizeof(Qp));
+}
+}  // namespace
+
+int main() {
+  run<KinovaQp<double, 1>>("fd_double");
+  run<KinovaQp<double, 8>>("id_double");
+  run<KinovaQp<float, 1>>("fd_float");
+  run<KinovaQp<float, 8>>("id_float");
+  return 0;
+}

@@ -1,0 +1,48 @@
+// arbor::qp: solver settings with defaults per scalar type (double, float).
+//
+// Tolerances are relative: a residual passes when it is below tol * (1 + scale), with scale
+// |z|_inf = max(|x|_inf, |A x|_inf) for the primal and complementarity residuals and the largest
+// of |H x|_inf, |g|_inf, |A' lam + lam_x|_inf for the dual one (cancellation in float makes
+// absolute tolerances unreachable on data of magnitude 10-100). reg_primal (delta) and reg_dual
+// (epsilon) are the proximal regularisations of every linear solve (see active_set.hpp): delta > 0
+// makes zero-curvature directions (a path parameter without cost, an LP) solvable and turns them
+// into long steps that the ratio test cuts at the first blocking constraint; epsilon > 0 keeps
+// dependent active constraints solvable. Neither changes the solution: both are centred at the
+// current iterate.
+#pragma once
+
+namespace arbor::qp {
+
+/// Settings of the active-set solvers.
+template <typename Scalar>
+struct QpSettings;
+
+/// Double-precision defaults.
+template <>
+struct QpSettings<double> {
+  int max_iter = 200;             ///< hard cap on iterations (real-time use)
+  double tol_primal = 1e-8;       ///< max allowed constraint violation
+  double tol_dual = 1e-8;         ///< max allowed stationarity residual
+  double tol_comp = 1e-8;         ///< max allowed complementarity residual
+  double reg_primal = 1e-8;       ///< delta: primal proximal weight (> 0)
+  double reg_dual = 1e-6;         ///< epsilon: dual proximal weight (> 0)
+  double reg_primal_max = 1e-3;   ///< delta is raised tenfold up to this on round-off failure
+  double tol_certificate = 1e-6;  ///< relative tolerance of infeasibility/unboundedness tests
+  double psd_tolerance = 1e-10;   ///< relative eigenvalue slack of the convexity check
+};
+
+/// Single-precision defaults (tolerances scaled for float's 24-bit mantissa).
+template <>
+struct QpSettings<float> {
+  int max_iter = 200;             ///< hard cap on iterations (real-time use)
+  float tol_primal = 1e-4f;       ///< max allowed constraint violation
+  float tol_dual = 1e-4f;         ///< max allowed stationarity residual
+  float tol_comp = 1e-4f;         ///< max allowed complementarity residual
+  float reg_primal = 1e-4f;       ///< delta: primal proximal weight (> 0)
+  float reg_dual = 1e-3f;         ///< epsilon: dual proximal weight (> 0)
+  float reg_primal_max = 1e-1f;   ///< delta is raised tenfold up to this on round-off failure
+  float tol_certificate = 1e-3f;  ///< relative tolerance of infeasibility/unboundedness tests
+  float psd_tolerance = 1e-5f;    ///< relative eigenvalue slack of the convexity check
+};
+
+}  // namespace arbor::qp

@@ -1,0 +1,243 @@
+// Dense solver on the known failure cases of CasADi's QRQP and on bad input: every solution is
+// checked against the KKT conditions (recomputed with dynamic Eigen) and the optimal value of an
+// exhaustive active-set enumeration; infeasible problems must never be reported as solved.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "alloc_guard.hpp"
+#include "arbor/qp/dense_qp_solver.hpp"
+#include "qp_reference.hpp"
+
+namespace {
+using arbor::qp::DenseQpProblem;
+using arbor::qp::DenseQpSolver;
+using arbor::qp::QpStatus;
+using arbor::qp::to_string;
+namespace t = arbor::qp::test;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+template <int NV, int NA>
+struct Case {
+  DenseQpProblem<double, NV, NA> p;
+  DenseQpSolver<double, NV, NA> s;
+  QpStatus setup_status = QpStatus::not_setup;
+
+  QpStatus run() {
+    arbor::test::NoAllocScope guard;
+    setup_status = s.setup(p);
+    if (setup_status != QpStatus::solved)
+      return setup_status;
+    s.cold_start();
+    return s.solve();
+  }
+  t::RefQp ref() const {
+    t::RefQp r;
+    r.H = p.H;
+    r.g = p.g;
+    r.A = p.A;
+    r.lbx = p.lbx;
+    r.ubx = p.ubx;
+    r.lba = p.lba;
+    r.uba = p.uba;
+    return r;
+  }
+  /// Solves and checks: status solved, KKT residuals, optimal value of the enumeration.
+  void expect_optimal() {
+    const QpStatus st = run();
+    ASSERT_EQ(st, QpStatus::solved) << to_string(st) << " after " << s.info().iterations;
+    const t::RefQp r = ref();
+    const t::Kkt k = t::kkt_residuals(r, s.x(), s.lam_x(), s.lam_a());
+    EXPECT_LE(k.primal, 1e-7 * k.pscale);
+    EXPECT_LE(k.dual, 1e-7 * k.dscale);
+    EXPECT_LE(k.complementarity, 1e-7 * k.pscale);
+    const t::EnumResult e = t::enumerate_active_sets(r);
+    ASSERT_TRUE(e.found);
+    EXPECT_NEAR(k.objective, e.objective,
+                t::objective_tolerance(k, s.x(), s.lam_x(), s.lam_a(), 1e-8));
+  }
+};
+
+template <int NV, int NA>
+void free_bounds(DenseQpProblem<double, NV, NA>& p) {
+  p.lbx.setConstant(-kInf);
+  p.ubx.setConstant(kInf);
+}
+
+TEST(QpDense, CasadiIssue3141ZeroHessian) {
+  // min x  s.t.  0 <= 2x + 1 <= 2, H = 0 (QRQP failed on it)
+  static Case<1, 1> c;
+  c.p.H.setZero();
+  c.p.g << 1;
+  c.p.A << 2;
+  free_bounds(c.p);
+  c.p.lba << -1;
+  c.p.uba << 1;
+  c.expect_optimal();
+  EXPECT_NEAR(c.s.x()(0), -0.5, 1e-8);
+  EXPECT_NEAR(c.s.lam_a()(0), -0.5, 1e-7);
+}
+
+TEST(QpDense, RedundantAndLinearlyDependentConstraints) {
+  // min 1/2|x - (1, 2)|^2 s.t. x1 + x2 <= 1 (three times, once scaled), x1 - x2 = -0.5 (twice)
+  static Case<2, 5> c;
+  c.p.H.setIdentity();
+  c.p.g << -1, -2;
+  c.p.A << 1, 1, 2, 2, 1, 1, 1, -1, 1, -1;
+  free_bounds(c.p);
+  c.p.lba << -kInf, -kInf, -kInf, -0.5, -0.5;
+  c.p.uba << 1, 2, 1, -0.5, -0.5;
+  c.expect_optimal();
+  EXPECT_NEAR(c.s.x()(0), 0.25, 1e-7);
+  EXPECT_NEAR(c.s.x()(1), 0.75, 1e-7);
+}
+
+TEST(QpDense, ZeroHessianDirection) {
+  // x2 has no cost curvature (like a path parameter) and a linear cost: it goes to its bound
+  static Case<2, 1> c;
+  c.p.H << 1, 0, 0, 0;
+  c.p.g << -1, 1;
+  c.p.A << 1, 1;
+  c.p.lbx << -kInf, -2;
+  c.p.ubx << kInf, 3;
+  c.p.lba << -kInf;
+  c.p.uba << 10;
+  c.expect_optimal();
+  EXPECT_NEAR(c.s.x()(0), 1, 1e-7);
+  EXPECT_NEAR(c.s.x()(1), -2, 1e-7);
+}
+
+TEST(QpDense, DegenerateVertexLinearProgram) {
+  // four constraints active at (1, 1) in 2-D: degenerate active set; an LP
+  static Case<2, 2> c;
+  c.p.H.setZero();
+  c.p.g << -1, -1;
+  c.p.A << 1, 1, 1, -1;
+  c.p.lbx << -5, -5;
+  c.p.ubx << 1, 1;
+  c.p.lba << -kInf, -kInf;
+  c.p.uba << 2, 0;
+  c.expect_optimal();
+  EXPECT_NEAR(c.s.x()(0), 1, 1e-7);
+  EXPECT_NEAR(c.s.x()(1), 1, 1e-7);
+}
+
+TEST(QpDense, EqualityConstrained) {
+  static Case<3, 2> c;
+  c.p.H << 4, 1, 0, 1, 3, 1, 0, 1, 2;
+  c.p.g << 1, -2, 0.5;
+  c.p.A << 1, 1, 1, 1, -1, 2;
+  free_bounds(c.p);
+  c.p.lba << 1, -0.5;
+  c.p.uba << 1, -0.5;
+  c.expect_optimal();
+}
+
+TEST(QpDense, LinearProgram) {
+  static Case<3, 3> c;
+  c.p.H.setZero();
+  c.p.g << -1, -2, 0.5;
+  c.p.A << 1, 1, 1, 1, -1, 0, 0, 1, -1;
+  c.p.lbx << 0, 0, 0;
+  c.p.ubx << 4, 3, 5;
+  c.p.lba << -kInf, -1, -2;
+  c.p.uba << 5, 1, 2;
+  c.expect_optimal();
+}
+
+TEST(QpDense, MerelyConvexWithFreeDirection) {
+  // H singular and g orthogonal to its null space: the solution set is a segment
+  static Case<2, 1> c;
+  c.p.H << 1, 1, 1, 1;
+  c.p.g << -1, -1;
+  c.p.A << 1, -1;
+  c.p.lbx << -3, -3;
+  c.p.ubx << 3, 3;
+  c.p.lba << -1;
+  c.p.uba << 1;
+  c.expect_optimal();
+}
+
+TEST(QpDense, InfeasibleBoundAndRow) {
+  static Case<1, 1> c;
+  c.p.H << 1;
+  c.p.g << 0;
+  c.p.A << 1;
+  c.p.lbx << 0;
+  c.p.ubx << 1;
+  c.p.lba << 2;
+  c.p.uba << kInf;
+  EXPECT_EQ(c.run(), QpStatus::infeasible);
+}
+
+TEST(QpDense, InfeasibleRows) {
+  static Case<2, 2> c;
+  c.p.H.setIdentity();
+  c.p.g << 0, 0;
+  c.p.A << 1, 1, 1, 1;
+  c.p.lbx << -10, -10;
+  c.p.ubx << 10, 10;
+  c.p.lba << 3, -kInf;
+  c.p.uba << kInf, 1;
+  EXPECT_EQ(c.run(), QpStatus::infeasible);
+}
+
+TEST(QpDense, InfeasibleEqualities) {
+  static Case<2, 2> c;
+  c.p.H.setZero();
+  c.p.g << 1, 0;
+  c.p.A << 1, 1, 2, 2;
+  free_bounds(c.p);
+  c.p.lba << 1, 3;
+  c.p.uba << 1, 3;
+  EXPECT_EQ(c.run(), QpStatus::infeasible);
+}
+
+TEST(QpDense, Unbounded) {
+  static Case<2, 1> c;
+  c.p.H << 1, 0, 0, 0;
+  c.p.g << 0, -1;
+  c.p.A << 1, 0;
+  c.p.lbx << -kInf, 0;
+  c.p.ubx << kInf, kInf;
+  c.p.lba << -1;
+  c.p.uba << 1;
+  EXPECT_EQ(c.run(), QpStatus::unbounded);
+}
+
+TEST(QpDense, NonFiniteDataAndBadBounds) {
+  static Case<2, 1> c;
+  auto reset = [] {
+    c.p.H.setIdentity();
+    c.p.g << 1, 1;
+    c.p.A << 1, 1;
+    c.p.lbx << -1, -1;
+    c.p.ubx << 1, 1;
+    c.p.lba << -1;
+    c.p.uba << 1;
+  };
+  reset();
+  EXPECT_EQ(c.run(), QpStatus::solved);
+  c.p.H(0, 1) = kNan;
+  EXPECT_EQ(c.run(), QpStatus::non_finite);
+  reset();
+  c.p.g(1) = kInf;
+  EXPECT_EQ(c.run(), QpStatus::non_finite);
+  reset();
+  c.p.A(0, 0) = kNan;
+  EXPECT_EQ(c.run(), QpStatus::non_finite);
+  reset();
+  c.p.lba(0) = kNan;
+  EXPECT_EQ(c.run(), QpStatus::non_finite);
+  reset();
+  c.p.lbx(1) = 2;
+  EXPECT_EQ(c.run(), QpStatus::invalid_bounds);
+  reset();
+  c.p.H(1, 1) = -1;
+  EXPECT_EQ(c.run(), QpStatus::non_convex);
+  EXPECT_EQ(c.s.solve(), QpStatus::not_setup);
+}
+
+}  // namespace

@@ -1,0 +1,114 @@
+// float instantiation: the same kinds of problems as in double, solved in single precision with
+// the float defaults; checked in double against the KKT conditions and the optimal value of the
+// double-precision dense solver (or the enumeration) on the very same (float) data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "alloc_guard.hpp"
+#include "arbor/qp/dense_qp_solver.hpp"
+#include "arbor/qp/ocp_qp_solver.hpp"
+#include "qp_reference.hpp"
+
+namespace {
+using arbor::qp::DenseQpProblem;
+using arbor::qp::DenseQpSolver;
+using arbor::qp::OcpQp;
+using arbor::qp::OcpQpSolver;
+using arbor::qp::QpStatus;
+using arbor::qp::to_string;
+namespace t = arbor::qp::test;
+
+template <int N, int NX, int NU, int NG, int NGN>
+void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
+  using QpF = OcpQp<float, N, NX, NU, NG, NGN>;
+  using QpD = OcpQp<double, N, NX, NU, NG, NGN>;
+  static QpF qp;
+  static OcpQpSolver<QpF> solver;
+  static DenseQpProblem<double, QpD::nv, QpD::na> dp;
+  static DenseQpSolver<double, QpD::nv, QpD::na> dense;
+  t::RandomOcpOptions opt;
+  opt.strictly_convex = strict;
+  if (!strict)
+    opt.inf_fraction = 0.0;
+  for (int c = 0; c < count; ++c) {
+    std::mt19937 rng(seed0 + static_cast<unsigned>(c));
+    t::random_ocp(qp, rng, opt);
+    const t::RefQp ref = t::to_ref(qp);  // the float data, exactly, in double
+    t::to_dense(ref, dp);
+    QpStatus st, sd;
+    {
+      arbor::test::NoAllocScope guard;
+      ASSERT_EQ(solver.setup(qp), QpStatus::solved);
+      solver.cold_start();
+      st = solver.solve();
+      // the float-rounded Hessian of a rank-deficient PSD matrix may be indefinite by ~1e-7
+      arbor::qp::QpSettings<double> ds;
+      ds.psd_tolerance = 1e-6;
+      ASSERT_EQ(dense.setup(dp, ds), QpStatus::solved);
+      dense.cold_start();
+      sd = dense.solve();
+    }
+    SCOPED_TRACE(::testing::Message() << "seed " << seed0 + c);
+    ASSERT_EQ(st, QpStatus::solved) << to_string(st);
+    ASSERT_EQ(sd, QpStatus::solved) << to_string(sd);
+    const Eigen::VectorXd x = solver.x().template cast<double>();
+    const Eigen::VectorXd lx = solver.lam_x().template cast<double>();
+    const Eigen::VectorXd la = solver.lam_a().template cast<double>();
+    const t::Kkt k = t::kkt_residuals(ref, x, lx, la);
+    EXPECT_LE(k.primal, 1e-3 * k.pscale);
+    EXPECT_LE(k.dual, 1e-3 * k.dscale);
+    EXPECT_LE(k.complementarity, 1e-3 * k.pscale);
+    const t::Kkt kd = t::kkt_residuals(ref, dense.x(), dense.lam_x(), dense.lam_a());
+    // first-order bound of the objective error of a point with these residuals
+    const double ftol = t::objective_tolerance(k, x, lx, la, 1e-4) +
+                        t::objective_tolerance(kd, dense.x(), dense.lam_x(), dense.lam_a(), 1e-9);
+    EXPECT_NEAR(k.objective, kd.objective, ftol);
+    if (strict) {
+      EXPECT_LE((x - Eigen::VectorXd(dense.x())).cwiseAbs().maxCoeff(), 1e-2 * k.pscale);
+    }
+    if (enumerate) {
+      const t::EnumResult e = t::enumerate_active_sets(ref);
+      ASSERT_TRUE(e.found);
+      EXPECT_NEAR(k.objective, e.objective, ftol);
+    }
+  }
+}
+
+TEST(QpFloat, TinyMatchesEnumeration) {
+  check_float<2, 2, 1, 1, 1>(100, 5, true, true);
+  check_float<2, 2, 1, 1, 1>(200, 5, false, true);
+}
+
+TEST(QpFloat, RandomStrictlyConvexMatchesDouble) {
+  check_float<8, 4, 2, 1, 1>(400, 8, true, false);
+}
+
+TEST(QpFloat, RandomMerelyConvexMatchesDouble) {
+  check_float<8, 4, 2, 1, 1>(500, 8, false, false);
+}
+
+TEST(QpFloat, DenseCasadiIssue3141) {
+  static DenseQpProblem<float, 1, 1> p;
+  static DenseQpSolver<float, 1, 1> s;
+  p.H.setZero();
+  p.g << 1;
+  p.A << 2;
+  p.lbx << -std::numeric_limits<float>::infinity();
+  p.ubx << std::numeric_limits<float>::infinity();
+  p.lba << -1;
+  p.uba << 1;
+  QpStatus st;
+  {
+    arbor::test::NoAllocScope guard;
+    ASSERT_EQ(s.setup(p), QpStatus::solved);
+    s.cold_start();
+    st = s.solve();
+  }
+  ASSERT_EQ(st, QpStatus::solved) << to_string(st);
+  EXPECT_NEAR(s.x()(0), -0.5f, 1e-4f);
+}
+
+}  // namespace
