@@ -48,6 +48,10 @@ struct Tolerance<float> {
 
 /// Runs rnea, gravity, nle, crba, aba and minverse on every reference sample and returns the
 /// largest relative error of each, so that a test can both check and report them.
+/// max(a, b) written as a comparison: GCC 12 for AArch64 crashes (internal compiler error in
+/// vect_transform_reduction) when it vectorizes std::fmax reductions.
+inline double larger(double a, double b) { return b > a ? b : a; }
+
 struct RbdErrors {
   double rnea = 0, gravity = 0, nle = 0, crba = 0, aba = 0, minv = 0;
 };
@@ -67,8 +71,8 @@ RbdErrors rbd_errors(const RefView& ref) {
   auto rel_vec = [&](const typename D::Vector& x, const double* r) {
     double err = 0, mag = 1;
     for (int i = 0; i < R::nv; ++i) {
-      err = std::fmax(err, std::fabs(double(x[i]) - r[perm[i]]));
-      mag = std::fmax(mag, std::fabs(r[perm[i]]));
+      err = larger(err, std::fabs(double(x[i]) - r[perm[i]]));
+      mag = larger(mag, std::fabs(r[perm[i]]));
     }
     return err / mag;
   };
@@ -77,8 +81,8 @@ RbdErrors rbd_errors(const RefView& ref) {
     for (int i = 0; i < R::nv; ++i)
       for (int j = 0; j < R::nv; ++j) {
         const double rij = r[perm[i] * ref.nv + perm[j]];
-        err = std::fmax(err, std::fabs(double(X(i, j)) - rij));
-        mag = std::fmax(mag, std::fabs(rij));
+        err = larger(err, std::fabs(double(X(i, j)) - rij));
+        mag = larger(mag, std::fabs(rij));
       }
     return err / mag;
   };
@@ -93,12 +97,12 @@ RbdErrors rbd_errors(const RefView& ref) {
     }
     const int om = k * ref.nv * ref.nv;
     NoAllocScope guard;
-    e.rnea = std::fmax(e.rnea, rel_vec(rnea<R>(data, q, v, a), ref.rnea + o));
-    e.gravity = std::fmax(e.gravity, rel_vec(gravity<R>(data, q), ref.gravity + o));
-    e.nle = std::fmax(e.nle, rel_vec(nle<R>(data, q, v), ref.nle + o));
-    e.crba = std::fmax(e.crba, rel_mat(crba<R>(data, q), ref.crba + om));
-    e.aba = std::fmax(e.aba, rel_vec(aba<R>(data, q, v, tau), ref.aba + o));
-    e.minv = std::fmax(e.minv, rel_mat(minverse<R>(data, q), ref.minv + om));
+    e.rnea = larger(e.rnea, rel_vec(rnea<R>(data, q, v, a), ref.rnea + o));
+    e.gravity = larger(e.gravity, rel_vec(gravity<R>(data, q), ref.gravity + o));
+    e.nle = larger(e.nle, rel_vec(nle<R>(data, q, v), ref.nle + o));
+    e.crba = larger(e.crba, rel_mat(crba<R>(data, q), ref.crba + om));
+    e.aba = larger(e.aba, rel_vec(aba<R>(data, q, v, tau), ref.aba + o));
+    e.minv = larger(e.minv, rel_mat(minverse<R>(data, q), ref.minv + om));
   }
   return e;
 }
