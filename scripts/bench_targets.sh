@@ -26,9 +26,10 @@ for t in cortex-m7 cortex-m4f; do
   cmake -S "$root" -B "$b" --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_BUILD_TESTS=OFF -DARBOR_BUILD_BENCH=ON \
     >/dev/null
-  targets=""
+  targets="qp_bench"
   for r in $robots; do targets="$targets rbd_bench_$r firmware_$r"; done
   cmake --build "$b" -j2 --target $targets
+  run_qemu "$machine" "$b/bench/targets/qp_bench" | sed "s/^/$t /" >>"$tmp/bench.txt"
   for r in $robots; do
     run_qemu "$machine" "$b/bench/targets/rbd_bench_$r" | sed "s/^/$t /" >>"$tmp/bench.txt"
     stack=$(run_qemu "$machine" "$b/bench/targets/firmware_$r" | awk '/FIRMWARE stack/ {print $3}')
@@ -68,6 +69,16 @@ done
   echo "|---|---|---|---:|---:|---:|"
   awk '{sc = ($1 == "cortex-m4f") ? "float" : "double";
         printf "| %s | %s | %s | %d | %d | %s |\n", $1, $2, sc, $3, $4, $5}' "$tmp/firmware.txt"
+  echo
+  echo "## NMPC-sized QP (Kinova Gen3, N = 16, nx = 16, nu = 8; bench/qp/kinova_qp.hpp)"
+  echo
+  echo "OCP-FD: one path row per stage; OCP-ID: 8 rows per stage. Cold = setup + cold start + solve"
+  echo "of the nominal problem; warm = setup + solve of a perturbed problem from the previous"
+  echo "solution. Stack = high water of the warm solve."
+  echo
+  echo "| target | variant | cold instructions | cold iterations | warm instructions | warm iterations | status (cold/warm) | solver [B] | stack [B] |"
+  echo "|---|---|---:|---:|---:|---:|---|---:|---:|"
+  grep ' QPBENCH ' "$tmp/bench.txt" | awk '{printf "| %s | %s | %s | %s | %s | %s | %s/%s | %s | %s |\n", $1, $3, $4, $5, $7, $8, $6, $9, $10, $11}'
 } >"$out"
 cat "$out"
 if grep -qE "NOT-LINEAR|NOT-REPEATABLE" "$tmp/bench.txt"; then
