@@ -1,0 +1,22 @@
+// arbor: dense Cholesky solve with M (for comparison with minverse/aba), fixed size.
+#pragma once
+
+#include "arbor/dynamics/data.hpp"
+
+namespace arbor {
+
+/// Factorizes data.M (call crba first) into data.llt.
+template <Robot R, class S>
+void cholesky_factor(Data<R, S>& d) {
+  d.llt.compute(d.M);
+}
+
+/// Solves M x = b with the factor from cholesky_factor.
+template <Robot R, class S, class B>
+typename Data<R, S>::Vector cholesky_solve(const Data<R, S>& d, const Eigen::MatrixBase<B>& b) {
+  typename Data<R, S>::Vector x = b;
+  d.llt.solveInPlace(x);
+  return x;
+}
+
+}  // namespace arbor

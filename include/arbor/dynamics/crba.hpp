@@ -1,0 +1,146 @@
+// arbor: composite rigid-body algorithm (joint-space inertia matrix M(q), full symmetric).
+#pragma once
+
+#include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/minverse.hpp"
+
+namespace arbor {
+
+namespace detail {
+
+/// Carries the force F = Ycrb_i S_i (expressed in body j) up the ancestors of i, filling M(p, i).
+template <class R, int i, int j, class S>
+ARBOR_INLINE void crba_up(Data<R, S>& d, const Force<S>& F) {
+  using Bj = spatial::BodyOps<R, j, S>;
+  if constexpr (Bj::parent >= 0) {
+    constexpr int p = Bj::parent;
+    using Bp = spatial::BodyOps<R, p, S>;
+    const Force<S> Fp = Bj::force_to_parent(d.joint[j], F);
+    const S m = Bp::ST(Fp);
+    d.M(p, i) = m;
+    d.M(i, p) = m;
+    crba_up<R, i, p>(d, Fp);
+  }
+}
+
+/// Below this many DoF, crba carries each column up the tree on its own (fewer instructions for
+/// short chains); from it on, whole blocks of columns at once (vectorized across columns).
+inline constexpr int kCrbaBlockFrom = 12;
+
+/// Ycrb S for a rigid (composite) inertia and the motion subspace of body i.
+template <class B, class S>
+ARBOR_INLINE Force<S> inertia_S(const Inertia<S>& Y) {
+  if constexpr (B::aligned) {
+    constexpr int k = B::k;
+    Force<S> F;
+    if constexpr (B::revolute) {
+      // f = -h x (sign e_k) = sign (e_k x h); n = sign Io e_k
+      F.f[k] = S(0);
+      F.f[B::ib] = Y.h[B::ia];
+      F.f[B::ia] = -Y.h[B::ib];
+      F.n = Y.Io.col(k);
+      if constexpr (B::sign < 0) {
+        F.f = -F.f;
+        F.n = -F.n;
+      }
+    } else {
+      F.f.setZero();
+      F.f[k] = Y.m * S(B::sign);
+      // n = h x (sign e_k) = sign (h_b e_a - h_a e_b)
+      F.n[k] = S(0);
+      F.n[B::ia] = Y.h[B::ib];
+      F.n[B::ib] = -Y.h[B::ia];
+      if constexpr (B::sign < 0)
+        F.n = -F.n;
+    }
+    return F;
+  } else {
+    return Y * B::S_times(S(1));
+  }
+}
+
+}  // namespace detail
+
+namespace detail {
+
+/// crba for small trees: each column Ycrb_i S_i carried up the ancestors of i on its own.
+template <class R, class S, class Q>
+ARBOR_INLINE void crba_columns(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+  detail::joint_states(d, q);
+  d.M.setZero();
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    d.Ycrb[i] = spatial::BodyOps<R, i, S>::inertia();
+  });
+  static_for_reverse<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, S>;
+    const Force<S> F = detail::inertia_S<B>(d.Ycrb[i]);
+    d.M(i, i) = B::ST(F);
+    detail::crba_up<R, i, i>(d, F);
+    if constexpr (B::parent >= 0)
+      d.Ycrb[B::parent] += B::inertia_to_parent(d.joint[i], d.Ycrb[i]);
+  });
+}
+
+/// crba for larger trees: the forces Ycrb_j S_j of the subtree of i are carried to each
+/// ancestor as one row-major block of columns (data.Fminv), one sparse transform for all.
+template <class R, class S, class Q>
+ARBOR_INLINE void crba_blocks(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+  constexpr int n = R::nv;
+  detail::joint_states(d, q);
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    d.Ycrb[i] = spatial::BodyOps<R, i, S>::inertia();
+    constexpr int last = detail::subtree_last<R>(i);
+    d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
+  });
+  static_for_reverse<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, S>;
+    constexpr int L = detail::subtree_last<R>(i) - i + 1;
+    using Row = Eigen::Matrix<S, 1, L>;
+    using Tri = typename B::template Tri<Row>;
+    auto blk = d.Fminv[i].template middleCols<L>(i);
+    const Force<S> F = detail::inertia_S<B>(d.Ycrb[i]);
+    for (int j = 0; j < 3; ++j) {
+      blk(j, 0) = F.f[j];
+      blk(3 + j, 0) = F.n[j];
+    }
+    Tri f{blk.row(0), blk.row(1), blk.row(2)};
+    Tri t{blk.row(3), blk.row(4), blk.row(5)};
+    const Row mrow = B::ST_t(f, t);
+    d.M.row(i).template segment<L>(i) = mrow;
+    d.M.col(i).template segment<L>(i) = mrow.transpose();
+    if constexpr (i + L < n) {
+      d.M.row(i).template tail<n - i - L>().setZero();
+      d.M.col(i).template tail<n - i - L>().setZero();
+    }
+    if constexpr (B::parent >= 0) {
+      B::force_to_parent_t(d.joint[i], f, t);
+      auto pb = d.Fminv[B::parent].template middleCols<L>(i);
+      for (int j = 0; j < 3; ++j) {
+        pb.row(j) += f[j];
+        pb.row(3 + j) += t[j];
+      }
+      d.Ycrb[B::parent] += B::inertia_to_parent(d.joint[i], d.Ycrb[i]);
+    }
+  });
+}
+
+}  // namespace detail
+
+/// Joint-space inertia matrix M(q) (full symmetric) in data.M; returns it.
+template <Robot R, class S, class Q>
+const typename Data<R, S>::Matrix& crba(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+  static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
+  if constexpr (R::nv < detail::kCrbaBlockFrom)
+    detail::crba_columns(d, q);
+  else
+    detail::crba_blocks(d, q);
+  return d.M;
+}
+
+}  // namespace arbor

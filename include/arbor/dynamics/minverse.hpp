@@ -1,0 +1,119 @@
+// arbor: M(q)^-1 by the ABA-based recursion (Carpentier & Mansard 2018), never by inverting M.
+// The per-body 6 x nv work blocks hold, column k, the response to a unit torque at joint k:
+// first the articulated bias forces (leaves to root), then the accelerations (root to leaves).
+// Blocks are row-major and transformed a whole block of columns at a time (rows are contiguous,
+// so the sparse per-body actions vectorize across columns).
+#pragma once
+
+#include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/aba.hpp"
+#include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/kinematics.hpp"
+
+namespace arbor {
+
+namespace detail {
+
+/// Largest body index in the subtree of body i (subtree members are all in [i, last]).
+template <class R>
+constexpr int subtree_last(int i) {
+  int last = i;
+  for (int j = i + 1; j < R::nb; ++j) {
+    int p = R::parent[j];
+    while (p > i)
+      p = R::parent[p];
+    if (p == i)
+      last = j;
+  }
+  return last;
+}
+
+}  // namespace detail
+
+/// M(q)^-1 (full symmetric) in data.Minv; returns it.
+template <Robot R, class S, class Q>
+const typename Data<R, S>::Matrix& minverse(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+  static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
+  constexpr int n = R::nv;
+  detail::joint_states(d, q);
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, S>;
+    d.Yaba[i] = B::art_inertia();
+    constexpr int last = detail::subtree_last<R>(i);
+    d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
+  });
+  // Backward pass: columns [i, last] (the subtree of i) of the bias-force blocks.
+  static_for_reverse<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, S>;
+    constexpr int L = detail::subtree_last<R>(i) - i + 1;
+    using Row = Eigen::Matrix<S, 1, L>;
+    using Tri = typename B::template Tri<Row>;
+    B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
+    const S Dinv = S(1) / B::ST(d.U[i]);
+    d.Dinv[i] = Dinv;
+    auto blk = d.Fminv[i].template middleCols<L>(i);
+    Tri f{blk.row(0), blk.row(1), blk.row(2)};
+    Tri t{blk.row(3), blk.row(4), blk.row(5)};
+    Row mrow = B::ST_t(f, t) * S(-Dinv);
+    mrow[0] = Dinv;  // column i: the unit torque at i itself (no bias force from below)
+    d.Minv.row(i).template segment<L>(i) = mrow;
+    if constexpr (i + L < n)
+      d.Minv.row(i).template tail<n - i - L>().setZero();
+    if constexpr (B::parent >= 0) {
+      constexpr int p = B::parent;
+      d.Yaba[p] += B::art_project_to_parent(d.joint[i], d.Yaba[i], d.U[i], Dinv);
+      for (int j = 0; j < 3; ++j) {
+        f[j] += mrow * d.U[i].f[j];
+        t[j] += mrow * d.U[i].n[j];
+      }
+      B::force_to_parent_t(d.joint[i], f, t);
+      auto pb = d.Fminv[p].template middleCols<L>(i);
+      for (int j = 0; j < 3; ++j) {
+        pb.row(j) += f[j];
+        pb.row(3 + j) += t[j];
+      }
+    }
+  });
+  // Forward pass: rows i, columns [i, n) of M^-1 and of the acceleration blocks.
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, S>;
+    constexpr int L = n - i;
+    using Row = Eigen::Matrix<S, 1, L>;
+    using Tri = typename B::template Tri<Row>;
+    Row mrow = d.Minv.row(i).template tail<L>();
+    Tri v, w;
+    if constexpr (B::parent >= 0) {
+      auto pb = d.Fminv[B::parent].template middleCols<L>(i);
+      v = Tri{pb.row(0), pb.row(1), pb.row(2)};
+      w = Tri{pb.row(3), pb.row(4), pb.row(5)};
+      B::motion_to_child_t(d.joint[i], v, w);
+      Row ua = v[0] * d.U[i].f[0];
+      for (int j = 1; j < 3; ++j)
+        ua += v[j] * d.U[i].f[j];
+      for (int j = 0; j < 3; ++j)
+        ua += w[j] * d.U[i].n[j];
+      mrow -= ua * d.Dinv[i];
+    } else {
+      for (int j = 0; j < 3; ++j) {
+        v[j].setZero();
+        w[j].setZero();
+      }
+    }
+    B::add_S_t(v, w, mrow);
+    d.Minv.row(i).template tail<L>() = mrow;
+    auto blk = d.Fminv[i].template middleCols<L>(i);
+    for (int j = 0; j < 3; ++j) {
+      blk.row(j) = v[j];
+      blk.row(3 + j) = w[j];
+    }
+  });
+  for (int c = 0; c < n; ++c)
+    for (int r = c + 1; r < n; ++r)
+      d.Minv(r, c) = d.Minv(c, r);
+  return d.Minv;
+}
+
+}  // namespace arbor

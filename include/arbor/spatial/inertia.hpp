@@ -1,0 +1,55 @@
+// arbor: rigid-body spatial inertia, stored as (mass, first moment h = m c, rotational inertia
+// about the frame origin) so that sums of inertias (composite bodies) stay exact and cheap.
+#pragma once
+
+#include "arbor/core/config.hpp"
+#include "arbor/spatial/fwd.hpp"
+#include "arbor/spatial/motion.hpp"
+#include "arbor/spatial/se3.hpp"
+
+namespace arbor::spatial {
+
+/// Spatial inertia of a rigid body (or a composite of rigid bodies) in some frame.
+template <class S>
+struct Inertia {
+  S m;         ///< mass
+  Vec3<S> h;   ///< first moment of mass m * c (c: centre of mass)
+  Mat3<S> Io;  ///< rotational inertia about the frame origin (not about the centre of mass)
+
+  /// The zero inertia.
+  static Inertia Zero() { return {S(0), Vec3<S>::Zero(), Mat3<S>::Zero()}; }
+  /// From mass, centre of mass and rotational inertia about the centre of mass.
+  static Inertia FromMassComInertia(const S& mass, const Vec3<S>& com, const Mat3<S>& Ic) {
+    const Mat3<S> C = skew(com);
+    return {mass, com * mass, Ic - mass * (C * C)};
+  }
+  /// Centre of mass (undefined for zero mass).
+  Vec3<S> com() const { return h / m; }
+  Inertia operator+(const Inertia& o) const { return {m + o.m, h + o.h, Io + o.Io}; }
+  Inertia& operator+=(const Inertia& o) {
+    m += o.m;
+    h += o.h;
+    Io += o.Io;
+    return *this;
+  }
+  /// Momentum I * v = [m v - h x w; Io w + h x v].
+  Force<S> operator*(const Motion<S>& x) const {
+    return {x.v * m - h.cross(x.w), Io * x.w + h.cross(x.v)};
+  }
+  /// 6x6 matrix in [v; w] -> [f; n] ordering.
+  Mat6<S> matrix() const {
+    Mat6<S> M;
+    const Mat3<S> H = skew(h);
+    M << Mat3<S>::Identity() * m, -H, H, Io;
+    return M;
+  }
+  /// The same inertia expressed in the parent frame of placement X (X = parentMthis).
+  Inertia se3Action(const SE3<S>& X) const {
+    const Vec3<S> hr = X.R * h;
+    const Mat3<S> P = skew(X.p);
+    const Mat3<S> Hr = skew(hr);
+    return {m, hr + X.p * m, X.R * Io * X.R.transpose() - (Hr * P + P * Hr) - m * (P * P)};
+  }
+};
+
+}  // namespace arbor::spatial

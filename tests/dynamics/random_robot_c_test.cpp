@@ -1,0 +1,19 @@
+// Random compile-time robots against the textbook implementation, identities, float.
+#include "random_checks.hpp"
+
+namespace {
+using namespace arbor::test::random_checks;
+
+using R_4_14 = arbor::test::RandomRobot<4, 14>;
+static_assert(arbor::model::validate<R_4_14>());
+TEST(RandomRobot_4_14, MatchesTextbook) {
+  matches_textbook<R_4_14>();
+}
+TEST(RandomRobot_4_14, Identities) {
+  identities<R_4_14>();
+}
+TEST(RandomRobot_4_14, FloatMatchesDouble) {
+  float_matches_double<R_4_14>();
+}
+
+}  // namespace
