@@ -42,6 +42,35 @@ for t in cortex-m7 cortex-m4f; do
   done
 done
 
+# AArch64 Linux: qemu-aarch64 has no -icount, but with -singlestep (one instruction per block)
+# and -d exec,nochain it logs one line per executed instruction; instructions per call are the
+# difference of 11 and 1 calls, divided by 10.
+a="$root/build-bench-aarch64-linux"
+cmake -S "$root" -B "$a" --toolchain "$root/toolchains/aarch64-linux.cmake" \
+  -DCMAKE_BUILD_TYPE=Release -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_BUILD_TESTS=OFF \
+  -DARBOR_BUILD_BENCH=ON >/dev/null
+targets=""
+for r in $robots; do targets="$targets rbd_count_$r"; done
+cmake --build "$a" -j2 --target $targets
+count_insn() {  # exe algo scalar calls
+  qemu-aarch64 -L /usr/aarch64-linux-gnu -singlestep -d exec,nochain -D "$tmp/trace.log" \
+    "$1" "$2" "$3" "$4"
+  grep -c '^Trace' "$tmp/trace.log"
+  rm -f "$tmp/trace.log"
+}
+for r in $robots; do
+  for sc in double float; do
+    for algo in rnea aba crba minverse fk; do
+      n1=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 1)
+      n11=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 11)
+      n21=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 21)
+      lin=""
+      [ $((n21 - n11)) -eq $((n11 - n1)) ] || lin=" NOT-LINEAR"
+      echo "aarch64-linux BENCH $r $sc $algo $(((n11 - n1) / 10)) -$lin" >>"$tmp/bench.txt"
+    done
+  done
+done
+
 {
   echo "# Target benchmarks (emulated, deterministic instruction counts)"
   echo
@@ -52,6 +81,10 @@ done
   echo "under \`-icount shift=0\`, from the difference of 16/32/48-call runs; each figure was"
   echo "checked linear in the number of calls and identical on repetition."
   echo "Stack = high-water mark of one call above the caller's (painted stack)."
+  echo "AArch64 Linux ($(aarch64-linux-gnu-g++ --version | head -1 | awk '{print $NF}'), -O2): counted exactly with"
+  echo "\`qemu-aarch64 -singlestep -d exec,nochain\` (one log line per executed instruction), as the"
+  echo "difference of 11 and 1 calls over 10, checked equal to the difference of 21 and 11; no stack"
+  echo "figure there (-)."
   echo
   grep CALIBRATION "$tmp/bench.txt" | sort -u | sed 's/^/    /'
   echo
