@@ -44,7 +44,7 @@ done
 
 # AArch64 Linux: qemu-aarch64 has no -icount, but with -singlestep (one instruction per block)
 # and -d exec,nochain it logs one line per executed instruction; instructions per call are the
-# difference of 11 and 1 calls, divided by 10.
+# difference of 20 and 10 calls, divided by 10 (same-length arguments, so parsing cancels).
 a="$root/build-bench-aarch64-linux"
 cmake -S "$root" -B "$a" --toolchain "$root/toolchains/aarch64-linux.cmake" \
   -DCMAKE_BUILD_TYPE=Release -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_BUILD_TESTS=OFF \
@@ -61,12 +61,12 @@ count_insn() {  # exe algo scalar calls
 for r in $robots; do
   for sc in double float; do
     for algo in rnea aba crba minverse fk; do
-      n1=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 1)
-      n11=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 11)
-      n21=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 21)
+      n10=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 10)
+      n20=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 20)
+      n30=$(count_insn "$a/bench/targets/rbd_count_$r" $algo $sc 30)
       lin=""
-      [ $((n21 - n11)) -eq $((n11 - n1)) ] || lin=" NOT-LINEAR"
-      echo "aarch64-linux BENCH $r $sc $algo $(((n11 - n1) / 10)) -$lin" >>"$tmp/bench.txt"
+      [ $((n30 - n20)) -eq $((n20 - n10)) ] || lin=" NOT-LINEAR"
+      echo "aarch64-linux BENCH $r $sc $algo $(((n20 - n10) / 10)) -$lin" >>"$tmp/bench.txt"
     done
   done
 done
@@ -83,7 +83,7 @@ done
   echo "Stack = high-water mark of one call above the caller's (painted stack)."
   echo "AArch64 Linux ($(aarch64-linux-gnu-g++ --version | head -1 | awk '{print $NF}'), -O2): counted exactly with"
   echo "\`qemu-aarch64 -singlestep -d exec,nochain\` (one log line per executed instruction), as the"
-  echo "difference of 11 and 1 calls over 10, checked equal to the difference of 21 and 11; no stack"
+  echo "difference of 20 and 10 calls over 10, checked equal to the difference of 30 and 20; no stack"
   echo "figure there (-)."
   echo
   grep CALIBRATION "$tmp/bench.txt" | sort -u | sed 's/^/    /'
