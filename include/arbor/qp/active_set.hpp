@@ -309,7 +309,7 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::solve(Backend& be, const QpSettings<Scal
   bool refactor = true;
   be.mark_all();
   int pending = -1;                    // index of a pending change from the ratio test
-  std::int8_t pending_ws = kInactive;  // its new working-set state
+  std::int8_t pending_ws = kInactive;  // its next working-set state
   Scalar best = inf();
   bool have_best = false;
   bool unbounded_candidate = false;
@@ -486,7 +486,7 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::solve(Backend& be, const QpSettings<Scal
       lam(pending) = 0;
     if (tau == Scalar(1) && delta * dx_.cwiseAbs().maxCoeff() > s.tol_dual &&
         unboundedness_certificate(be, s)) {
-      unbounded_candidate = true;  // confirmed if the new iterate is primal feasible
+      unbounded_candidate = true;  // confirmed if the next iterate is primal feasible
     }
   }
 
