@@ -6,12 +6,14 @@
 #
 # Needs valgrind and a build with -DARBOR_BUILD_BENCH=ON (target arbor_bench_dynamics_cg:
 # the same code as arbor_bench_dynamics, without AVX-512, which valgrind cannot run).
+# BENCH=derivatives counts the derivative benchmarks instead (arbor_bench_derivatives_cg).
 # Prints a Markdown table: robot, scalar, algorithm, instructions per call.
 set -euo pipefail
 
 build=${1:?usage: callgrind_counts.sh <build-dir> [robots...] [-- algos...]}
 shift
-exe="$build/bench/dynamics/arbor_bench_dynamics_cg"
+bench=${BENCH:-dynamics}
+exe="$build/bench/$bench/arbor_bench_${bench}_cg"
 [[ -x "$exe" ]] || { echo "missing $exe (build arbor_bench_dynamics_cg)" >&2; exit 1; }
 
 robots=()
@@ -19,7 +21,13 @@ algos=()
 while [[ $# -gt 0 && "$1" != "--" ]]; do robots+=("$1"); shift; done
 if [[ $# -gt 0 ]]; then shift; algos=("$@"); fi
 [[ ${#robots[@]} -gt 0 ]] || robots=(iiwa7 kinova_gen3 yumi_no_grippers atlas)
-[[ ${#algos[@]} -gt 0 ]] || algos=(fk rnea gravity nle crba aba minverse jacobian cholesky)
+if [[ ${#algos[@]} -eq 0 ]]; then
+  if [[ $bench == derivatives ]]; then
+    algos=(rnea_derivatives aba_derivatives)
+  else
+    algos=(fk rnea gravity nle crba aba minverse jacobian cholesky)
+  fi
+fi
 scalars=(${SCALARS:-double float})
 N1=${N1:-100}
 N2=${N2:-1100}

@@ -2,6 +2,7 @@
 // (time) and for the callgrind runner (instructions per call).
 #pragma once
 
+#include <arbor/derivatives/derivatives.hpp>
 #include <arbor/dynamics/dynamics.hpp>
 #include <cstring>
 #include <random>
@@ -9,10 +10,28 @@
 
 namespace arbor::bench {
 
-enum class Algo { fk, rnea, gravity, nle, crba, aba, minverse, jacobian, cholesky };
+enum class Algo {
+  fk,
+  rnea,
+  gravity,
+  nle,
+  crba,
+  aba,
+  minverse,
+  jacobian,
+  cholesky,
+  rnea_derivatives,
+  aba_derivatives
+};
+// The same driver builds the dynamics benchmarks (bench/dynamics) and, with
+// ARBOR_BENCH_DERIVATIVES, the derivative benchmarks (bench/derivatives).
+#ifdef ARBOR_BENCH_DERIVATIVES
+inline constexpr Algo kAlgos[] = {Algo::rnea_derivatives, Algo::aba_derivatives};
+#else
 inline constexpr Algo kAlgos[] = {Algo::fk,       Algo::rnea,     Algo::gravity,
                                   Algo::nle,      Algo::crba,     Algo::aba,
                                   Algo::minverse, Algo::jacobian, Algo::cholesky};
+#endif
 inline const char* algo_name(Algo a) {
   switch (a) {
     case Algo::fk:
@@ -33,6 +52,10 @@ inline const char* algo_name(Algo a) {
       return "jacobian";
     case Algo::cholesky:
       return "cholesky";
+    case Algo::rnea_derivatives:
+      return "rnea_derivatives";
+    case Algo::aba_derivatives:
+      return "aba_derivatives";
   }
   return "?";
 }
@@ -76,6 +99,12 @@ ARBOR_INLINE const void* call(Data<R, S>& d, Inputs<R, S>& in) {
   } else if constexpr (A == Algo::jacobian) {
     compute_frame_jacobian<R>(d, in.q, R::nf - 1, ReferenceFrame::LocalWorldAligned, in.J);
     return &in.J;
+  } else if constexpr (A == Algo::rnea_derivatives) {
+    rnea_derivatives<R>(d, in.q, in.v, in.a);
+    return &d.dtau_dq;
+  } else if constexpr (A == Algo::aba_derivatives) {
+    aba_derivatives<R>(d, in.q, in.v, in.tau);
+    return &d.ddq_dq;
   } else {
     // M from crba, then a Cholesky solve M x = tau (the dense alternative to aba/minverse)
     crba<R>(d, in.q);

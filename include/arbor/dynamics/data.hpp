@@ -63,6 +63,26 @@ struct Data {
   /// Per-body 6 x nv work blocks of crba and minverse (row-major: rows are contiguous).
   std::array<Eigen::Matrix<S, 6, nv, (nv == 1 ? Eigen::ColMajor : Eigen::RowMajor)>, nb> Fminv;
   Eigen::LLT<Matrix> llt;  ///< Cholesky factor of M (cholesky_solve)
+
+  // ---- first-order derivatives (include/arbor/derivatives) -----------------------------------
+  /// 6 x nv work block, row-major (rows contiguous; the derivative sweeps run along rows).
+  using RowBlock = Eigen::Matrix<S, 6, nv, (nv == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
+  Matrix dtau_dq;                    ///< d tau / d q (rnea_derivatives)
+  Matrix dtau_dv;                    ///< d tau / d v (rnea_derivatives; d tau / d a is M)
+  Matrix ddq_dq;                     ///< d ddq / d q (aba_derivatives)
+  Matrix ddq_dv;                     ///< d ddq / d v (aba_derivatives; d ddq / d tau is Minv)
+  std::array<Motion<S>, nb> ov;      ///< body spatial velocities (world frame)
+  std::array<Motion<S>, nb> oa;      ///< body spatial accelerations + gravity (world frame)
+  std::array<Motion<S>, nb> dS;      ///< v_parent x S: d/dt of each joint's world column
+  std::array<Motion<S>, nb> ddS;     ///< a_parent x S + v_parent x dS (world frame)
+  std::array<Inertia<S>, nb> oYcrb;  ///< composite inertias (world frame)
+  std::array<spatial::InertiaRate<S>, nb> oYdot;  ///< their time derivatives (world frame)
+  std::array<Force<S>, nb> oh;                    ///< composite momenta (world frame)
+  std::array<Force<S>, nb> of;  ///< composite forces: subtree's net force (world frame)
+  RowBlock dP;                  ///< column j: Ycrb_j S_j (world; column j of M)
+  RowBlock dQ;                  ///< column j: 2 B_j^T S_j (world; Coriolis-like term)
+  RowBlock dG;                  ///< column j: d f_j / d q_j for the ancestors' rows
+  RowBlock dH;                  ///< column j: d f_j / d v_j for the ancestors' rows
 };
 
 }  // namespace arbor

@@ -28,6 +28,21 @@ constexpr int subtree_last(int i) {
   return last;
 }
 
+/// True when the subtree of body i is exactly the bodies [i, subtree_last(i)] (always so for
+/// the generator's depth-first numbering; any topological order is allowed by the model).
+template <class R>
+constexpr bool subtree_contiguous(int i) {
+  const int last = subtree_last<R>(i);
+  for (int j = i + 1; j <= last; ++j) {
+    int p = R::parent[j];
+    while (p > i)
+      p = R::parent[p];
+    if (p != i)
+      return false;
+  }
+  return true;
+}
+
 }  // namespace detail
 
 /// M(q)^-1 (full symmetric) in data.Minv; returns it.

@@ -52,4 +52,31 @@ struct Inertia {
   }
 };
 
+/// Time derivative of a (composite) rigid-body inertia whose bodies move with velocities v_i:
+/// sum_i (v_i x* I_i - I_i v_i x). The mass is constant, so it has the shape of a rigid inertia
+/// with zero mass: [0, -[hd]; [hd], Iod] in [v; w] -> [f; n] ordering, Iod symmetric.
+template <class S>
+struct InertiaRate {
+  Vec3<S> hd;   ///< rate of the first moment of mass
+  Mat3<S> Iod;  ///< rate of the rotational inertia about the frame origin (symmetric)
+
+  static InertiaRate Zero() { return {Vec3<S>::Zero(), Mat3<S>::Zero()}; }
+  InertiaRate& operator+=(const InertiaRate& o) {
+    hd += o.hd;
+    Iod += o.Iod;
+    return *this;
+  }
+  /// The rate times a motion: [-hd x w; Iod w + hd x v].
+  Force<S> operator*(const Motion<S>& x) const {
+    return {-hd.cross(x.w), Iod * x.w + hd.cross(x.v)};
+  }
+  /// The 6x6 matrix.
+  Mat6<S> matrix() const {
+    Mat6<S> M;
+    const Mat3<S> H = skew(hd);
+    M << Mat3<S>::Zero(), -H, H, Iod;
+    return M;
+  }
+};
+
 }  // namespace arbor::spatial

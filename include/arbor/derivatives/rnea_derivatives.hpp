@@ -1,0 +1,327 @@
+// arbor: first-order analytical derivatives of inverse dynamics, d tau / d q, d tau / d v and
+// d tau / d a = M, after Carpentier & Mansard (RSS 2018), in the compact world-frame form of
+// their recursion (the same identities as IDSVA, Singh, Russell & Wensing, RA-L 2022).
+//
+// Everything below is in the world frame. For joint j with world column S_j, parent velocity
+// v_p and parent acceleration a_p (gravity included as a base acceleration -g):
+//   dS_j  = v_p x S_j,                ddS_j = a_p x S_j + v_p x dS_j,
+// and over the subtree of j the composite inertia Y_j, its rate Yd_j = sum (v_i x* Y_i - Y_i v_i x)
+// (a zero-mass rigid-inertia shape), the composite momentum h_j and the net force F_j. Then, with
+//   P_j = Y_j S_j,   Q_j = Yd_j S_j - S_j x* h_j,
+//   G_j = S_j x* F_j + Y_j ddS_j + Yd_j dS_j + dS_j x* h_j,   H_j = 2 Y_j dS_j + Yd_j S_j + S_j x*
+//   h_j,
+// for k an ancestor of j or j itself, and for j a strict ancestor of k:
+//   d tau_k / d q_j = S_k . G_j,      d tau_j / d q_k = P_j . ddS_k + Q_j . dS_k,
+//   d tau_k / d v_j = S_k . H_j,      d tau_j / d v_k = 2 P_j . dS_k + Q_j . S_k,
+//   M_kj = S_k . P_j,
+// and zero for pairs of joints on different branches. Per joint the cost is constant; the pair
+// sums run over each joint's subtree, whose columns are contiguous (depth-first numbering), as
+// row-vector operations across those columns: O(n d) for a tree of depth d.
+#pragma once
+
+#include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/jacobian.hpp"
+#include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/minverse.hpp"
+#include "arbor/dynamics/rnea.hpp"
+
+namespace arbor {
+
+namespace detail {
+
+/// World-frame quantities of the constant body inertia of body i.
+template <class R, int i, class S>
+struct WorldInertia {
+  static constexpr const model::Inertia& In = R::body_inertia[i];
+  static constexpr bool massless = In.mass == 0.0;
+  struct Com {
+    static constexpr double at(int j) { return In.com[j]; }
+  };
+  struct Ic {
+    static constexpr double at(int r, int c) { return In.I[r][c]; }
+  };
+
+  /// The inertia of body i in the world frame, from its placement oMi.
+  ARBOR_INLINE static Inertia<S> of(const SE3<S>& X) {
+    Inertia<S> Y;
+    const S m = S(In.mass);
+    Y.m = m;
+    Vec3<S> c = X.p;
+    if constexpr (!spatial::cst::is_zero_vec<Com>())
+      c += spatial::cst::mat_cvec<S, Com>(X.R);
+    Y.h = c * m;
+    // Io = R Ic R^T + m (|c|^2 1 - c c^T)
+    const Mat3<S> T = spatial::cst::mul_cols<S, Ic, 3>(X.R);  // R Ic
+    const S cc = c.squaredNorm();
+    for (int r = 0; r < 3; ++r)
+      for (int k = r; k < 3; ++k) {
+        S e = T.row(r).dot(X.R.row(k)) - Y.h[r] * c[k];
+        if (r == k)
+          e += m * cc;
+        Y.Io(r, k) = e;
+        Y.Io(k, r) = e;
+      }
+    return Y;
+  }
+
+  /// Rate v x* Y - Y v x of a rigid inertia Y moving with velocity v.
+  ARBOR_INLINE static spatial::InertiaRate<S> rate(const Inertia<S>& Y, const Motion<S>& v) {
+    spatial::InertiaRate<S> D;
+    D.hd = v.v * Y.m + v.w.cross(Y.h);
+    // Iod = [w] Io - Io [w] - (h v^T + v h^T - 2 (v . h) 1) = A + A^T - ..., A = [w] Io
+    Mat3<S> A;
+    for (int k = 0; k < 3; ++k)
+      A.col(k) = v.w.cross(Y.Io.col(k));
+    const S vh2 = S(2) * v.v.dot(Y.h);
+    for (int r = 0; r < 3; ++r)
+      for (int k = r; k < 3; ++k) {
+        S e = A(r, k) + A(k, r) - Y.h[r] * v.v[k] - v.v[r] * Y.h[k];
+        if (r == k)
+          e += vh2;
+        D.Iod(r, k) = e;
+        D.Iod(k, r) = e;
+      }
+    return D;
+  }
+};
+
+/// m x S for the world column S of body B's joint (no angular part for prismatic joints).
+template <class B, class S>
+ARBOR_INLINE Motion<S> cross_col(const Motion<S>& m, const Motion<S>& Sc) {
+  if constexpr (B::revolute)
+    return spatial::cross(m, Sc);
+  else
+    return {m.w.cross(Sc.v), Vec3<S>::Zero()};
+}
+
+/// Force cross product S x* f for the world column S of body B's joint.
+template <class B, class S>
+ARBOR_INLINE Force<S> cross_col_force(const Motion<S>& Sc, const Force<S>& f) {
+  if constexpr (B::revolute)
+    return spatial::cross(Sc, f);
+  else
+    return {Vec3<S>::Zero(), Sc.v.cross(f.f)};
+}
+
+/// The row vector sum_c x[c] * blk.row(c).segment<L>(from) (x a 6-vector given as two 3-vectors).
+template <int L, class S, class Blk>
+ARBOR_INLINE Eigen::Matrix<S, 1, L> row_dot(const Blk& blk, int from, const Vec3<S>& x0,
+                                            const Vec3<S>& x1) {
+  Eigen::Matrix<S, 1, L> r = blk.row(0).template segment<L>(from) * x0[0];
+  for (int c = 1; c < 3; ++c)
+    r += blk.row(c).template segment<L>(from) * x0[c];
+  for (int c = 0; c < 3; ++c)
+    r += blk.row(3 + c).template segment<L>(from) * x1[c];
+  return r;
+}
+
+/// The world column S of body i's joint and its axis (from data.oMi).
+template <class R, int i, class S>
+ARBOR_INLINE Motion<S> world_S(const Data<R, S>& d) {
+  using B = spatial::BodyOps<R, i, S>;
+  const SE3<S>& o = d.oMi[i];
+  Vec3<S> axis;
+  if constexpr (B::aligned)
+    axis = (B::sign > 0) ? Vec3<S>(o.R.col(B::k)) : Vec3<S>(-o.R.col(B::k));
+  else
+    axis = spatial::cst::mat_cvec<S, typename B::AxisV>(o.R);
+  if constexpr (B::revolute)
+    return {o.p.cross(axis), axis};
+  else
+    return {axis, Vec3<S>::Zero()};
+}
+
+/// Forward pass of the derivative sweep for body i: placement, world column (into data.J),
+/// velocity, acceleration, dS, ddS, and the body's own inertia, rate, momentum and force as the
+/// start of the composite sums. a is the joint acceleration vector.
+template <class R, int i, bool HasFext, class S, class V, class A>
+ARBOR_INLINE void deriv_forward_body(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
+                                     const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
+                                     const typename Data<R, S>::ForceArray* fext) {
+  using B = spatial::BodyOps<R, i, S>;
+  using W = WorldInertia<R, i, S>;
+  body_placement<R, i, S>(d);
+  const Motion<S> Sc = world_S<R, i, S>(d);
+  d.J.col(i) << Sc.v, Sc.w;
+  const S vi = S(v[i]), ai = S(a[i]);
+  if constexpr (B::parent < 0) {
+    // v_p = 0, a_p = (-g, 0): dS = 0, ddS = (-g) x S = [-g x S.w; 0]
+    d.dS[i] = Motion<S>::Zero();
+    if constexpr (B::revolute)
+      d.ddS[i] = {(-g).cross(Sc.w), Vec3<S>::Zero()};
+    else
+      d.ddS[i] = Motion<S>::Zero();
+    d.ov[i] = Sc * vi;
+    d.oa[i] = {Sc.v * ai - g, Sc.w * ai};
+  } else {
+    constexpr int p = B::parent;
+    const Motion<S>& vp = d.ov[p];
+    const Motion<S>& ap = d.oa[p];
+    d.dS[i] = cross_col<B>(vp, Sc);
+    d.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(vp, d.dS[i]);
+    d.ov[i] = vp + Sc * vi;
+    d.oa[i] = ap + d.dS[i] * vi + Sc * ai;
+  }
+  if constexpr (W::massless) {
+    d.oYcrb[i] = Inertia<S>::Zero();
+    d.oYdot[i] = spatial::InertiaRate<S>::Zero();
+    d.oh[i] = Force<S>::Zero();
+    d.of[i] = Force<S>::Zero();
+  } else {
+    d.oYcrb[i] = W::of(d.oMi[i]);
+    d.oh[i] = d.oYcrb[i] * d.ov[i];
+    d.of[i] = d.oYcrb[i] * d.oa[i] + spatial::cross(d.ov[i], d.oh[i]);
+    d.oYdot[i] = W::rate(d.oYcrb[i], d.ov[i]);
+  }
+  if constexpr (HasFext)
+    d.of[i] -= d.oMi[i].act((*fext)[i]);
+}
+
+/// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
+/// the rows and columns of the derivative matrices over the subtree of i, and the composite sums
+/// handed to the parent.
+template <class R, int i, bool WithM, class S>
+ARBOR_INLINE void deriv_backward_body(Data<R, S>& d) {
+  using B = spatial::BodyOps<R, i, S>;
+  constexpr int n = R::nv;
+  constexpr int last = subtree_last<R>(i);
+  constexpr int L = last - i + 1;
+  const Motion<S> Sc = Motion<S>::from(d.J.col(i));
+  const Motion<S>& dS = d.dS[i];
+  const Inertia<S>& Y = d.oYcrb[i];
+  const spatial::InertiaRate<S>& Yd = d.oYdot[i];
+  const Force<S>& h = d.oh[i];
+  const Force<S>& F = d.of[i];
+
+  d.tau[i] = spatial::dot(F, Sc);
+  const Force<S> P = Y * Sc;
+  const Force<S> YdS = Yd * Sc;
+  const Force<S> Sxh = cross_col_force<B>(Sc, h);
+  const Force<S> Q = YdS - Sxh;
+  const Force<S> G = cross_col_force<B>(Sc, F) + Y * d.ddS[i] + Yd * dS + spatial::cross(dS, h);
+  const Force<S> H = Y * dS * S(2) + YdS + Sxh;
+  for (int c = 0; c < 3; ++c) {
+    d.dP(c, i) = P.f[c];
+    d.dP(3 + c, i) = P.n[c];
+    d.dQ(c, i) = Q.f[c];
+    d.dQ(3 + c, i) = Q.n[c];
+    d.dG(c, i) = G.f[c];
+    d.dG(3 + c, i) = G.n[c];
+    d.dH(c, i) = H.f[c];
+    d.dH(3 + c, i) = H.n[c];
+  }
+  if constexpr (subtree_contiguous<R>(i)) {
+    // Row i over the subtree (k = i, j in [i, last]).
+    d.dtau_dq.row(i).template segment<L>(i) = row_dot<L, S>(d.dG, i, Sc.v, Sc.w);
+    d.dtau_dv.row(i).template segment<L>(i) = row_dot<L, S>(d.dH, i, Sc.v, Sc.w);
+    if constexpr (WithM) {
+      const auto mrow = row_dot<L, S>(d.dP, i, Sc.v, Sc.w);
+      d.M.row(i).template segment<L>(i) = mrow;
+      d.M.col(i).template segment<L>(i) = mrow.transpose();
+    }
+    // Column i below the diagonal over the strict subtree (j = i ancestor of k in (i, last]).
+    if constexpr (L > 1) {
+      const Motion<S>& ddS = d.ddS[i];
+      d.dtau_dq.col(i).template segment<L - 1>(i + 1) =
+          (row_dot<L - 1, S>(d.dP, i + 1, ddS.v, ddS.w) +
+           row_dot<L - 1, S>(d.dQ, i + 1, dS.v, dS.w))
+              .transpose();
+      const Vec3<S> dSv2 = dS.v * S(2), dSw2 = dS.w * S(2);
+      d.dtau_dv.col(i).template segment<L - 1>(i + 1) =
+          (row_dot<L - 1, S>(d.dP, i + 1, dSv2, dSw2) + row_dot<L - 1, S>(d.dQ, i + 1, Sc.v, Sc.w))
+              .transpose();
+    }
+  } else {
+    // A numbering that is topological but not depth-first: the range [i, last] also holds
+    // bodies of other branches, so each member of the subtree is taken on its own.
+    static_for<L>([&](auto J) {
+      constexpr int j = i + decltype(J)::value;
+      if constexpr (!support<R>[j][i]) {
+        d.dtau_dq(i, j) = S(0);
+        d.dtau_dq(j, i) = S(0);
+        d.dtau_dv(i, j) = S(0);
+        d.dtau_dv(j, i) = S(0);
+        if constexpr (WithM) {
+          d.M(i, j) = S(0);
+          d.M(j, i) = S(0);
+        }
+      } else {
+        d.dtau_dq(i, j) = row_dot<1, S>(d.dG, j, Sc.v, Sc.w)[0];
+        d.dtau_dv(i, j) = row_dot<1, S>(d.dH, j, Sc.v, Sc.w)[0];
+        if constexpr (WithM) {
+          const S m = row_dot<1, S>(d.dP, j, Sc.v, Sc.w)[0];
+          d.M(i, j) = m;
+          d.M(j, i) = m;
+        }
+        if constexpr (j > i) {
+          const Motion<S>& ddS = d.ddS[i];
+          d.dtau_dq(j, i) =
+              row_dot<1, S>(d.dP, j, ddS.v, ddS.w)[0] + row_dot<1, S>(d.dQ, j, dS.v, dS.w)[0];
+          d.dtau_dv(j, i) =
+              S(2) * row_dot<1, S>(d.dP, j, dS.v, dS.w)[0] + row_dot<1, S>(d.dQ, j, Sc.v, Sc.w)[0];
+        }
+      }
+    });
+  }
+  // Pairs on different branches: zero (rows and columns past the subtree).
+  if constexpr (last + 1 < n) {
+    d.dtau_dq.row(i).template tail<n - last - 1>().setZero();
+    d.dtau_dq.col(i).template tail<n - last - 1>().setZero();
+    d.dtau_dv.row(i).template tail<n - last - 1>().setZero();
+    d.dtau_dv.col(i).template tail<n - last - 1>().setZero();
+    if constexpr (WithM) {
+      d.M.row(i).template tail<n - last - 1>().setZero();
+      d.M.col(i).template tail<n - last - 1>().setZero();
+    }
+  }
+  if constexpr (B::parent >= 0) {
+    constexpr int p = B::parent;
+    d.oYcrb[p] += Y;
+    d.oYdot[p] += Yd;
+    d.oh[p] += h;
+    d.of[p] += F;
+  }
+}
+
+/// The whole derivative sweep at (q, v, a): data.tau, dtau_dq, dtau_dv and, WithM, data.M.
+template <class R, bool WithM, bool HasFext, class S, class Q, class V, class A>
+ARBOR_INLINE void rnea_derivatives_impl(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
+                                        const Eigen::MatrixBase<V>& v,
+                                        const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
+                                        const typename Data<R, S>::ForceArray* fext) {
+  joint_states(d, q);
+  static_for<R::nb>(
+      [&](auto I) { deriv_forward_body<R, decltype(I)::value, HasFext>(d, v, a, g, fext); });
+  static_for_reverse<R::nb>([&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d); });
+}
+
+}  // namespace detail
+
+/// Derivatives of inverse dynamics tau = ID(q, v, a) (gravity g, optional external forces fext,
+/// one per body in the body frame, held fixed in the body frames):
+/// data.dtau_dq = d tau / d q, data.dtau_dv = d tau / d v, data.M = d tau / d a (full
+/// symmetric), and data.tau = ID(q, v, a). Also leaves data.oMi, data.J (world joint columns),
+/// and the world-frame velocities data.ov and accelerations data.oa. O(n d); no allocation.
+template <Robot R, class S, class Q, class V, class A>
+void rnea_derivatives(Data<R, S>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                      const Eigen::MatrixBase<A>& a, const Vec3<S>& g = default_gravity<S>(),
+                      const typename Data<R, S>::ForceArray* fext = nullptr) {
+  static_assert(Q::RowsAtCompileTime == R::nq && V::RowsAtCompileTime == R::nv &&
+                    A::RowsAtCompileTime == R::nv,
+                "q, v, a have the wrong size");
+  if (fext)
+    detail::rnea_derivatives_impl<R, true, true>(d, q, v, a, g, fext);
+  else
+    detail::rnea_derivatives_impl<R, true, false>(d, q, v, a, g, fext);
+}
+
+/// rnea_derivatives with external forces (one per body, body frame) and gravity g.
+template <Robot R, class S, class Q, class V, class A>
+void rnea_derivatives(Data<R, S>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                      const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
+                      const typename Data<R, S>::ForceArray& fext) {
+  rnea_derivatives<R>(d, q, v, a, g, &fext);
+}
+
+}  // namespace arbor
