@@ -132,36 +132,26 @@ ARBOR_INLINE Motion<S> world_S(const Data<R, S>& d) {
     return {axis, Vec3<S>::Zero()};
 }
 
-/// Forward pass of the derivative sweep for body i: placement, world column (into data.J),
-/// velocity, acceleration, dS, ddS, and the body's own inertia, rate, momentum and force as the
-/// start of the composite sums. a is the joint acceleration vector.
-template <class R, int i, bool HasFext, class S, class V, class A>
-ARBOR_INLINE void deriv_forward_body(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
-                                     const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
-                                     const typename Data<R, S>::ForceArray* fext) {
+/// Forward pass of the derivative sweep for body i, the part independent of the joint
+/// accelerations: placement, world column (into data.J), velocity, dS, the body's own inertia,
+/// rate and momentum (the start of the composite sums), and its force without the joint
+/// accelerations, v x* h - fext (in data.of).
+template <class R, int i, bool HasFext, class S, class V>
+ARBOR_INLINE void deriv_forward_velocity(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
+                                         const typename Data<R, S>::ForceArray* fext) {
   using B = spatial::BodyOps<R, i, S>;
   using W = WorldInertia<R, i, S>;
   body_placement<R, i, S>(d);
   const Motion<S> Sc = world_S<R, i, S>(d);
   d.J.col(i) << Sc.v, Sc.w;
-  const S vi = S(v[i]), ai = S(a[i]);
+  const S vi = S(v[i]);
   if constexpr (B::parent < 0) {
-    // v_p = 0, a_p = (-g, 0): dS = 0, ddS = (-g) x S = [-g x S.w; 0]
     d.dS[i] = Motion<S>::Zero();
-    if constexpr (B::revolute)
-      d.ddS[i] = {(-g).cross(Sc.w), Vec3<S>::Zero()};
-    else
-      d.ddS[i] = Motion<S>::Zero();
     d.ov[i] = Sc * vi;
-    d.oa[i] = {Sc.v * ai - g, Sc.w * ai};
   } else {
-    constexpr int p = B::parent;
-    const Motion<S>& vp = d.ov[p];
-    const Motion<S>& ap = d.oa[p];
+    const Motion<S>& vp = d.ov[B::parent];
     d.dS[i] = cross_col<B>(vp, Sc);
-    d.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(vp, d.dS[i]);
     d.ov[i] = vp + Sc * vi;
-    d.oa[i] = ap + d.dS[i] * vi + Sc * ai;
   }
   if constexpr (W::massless) {
     d.oYcrb[i] = Inertia<S>::Zero();
@@ -171,11 +161,36 @@ ARBOR_INLINE void deriv_forward_body(Data<R, S>& d, const Eigen::MatrixBase<V>& 
   } else {
     d.oYcrb[i] = W::of(d.oMi[i]);
     d.oh[i] = d.oYcrb[i] * d.ov[i];
-    d.of[i] = d.oYcrb[i] * d.oa[i] + spatial::cross(d.ov[i], d.oh[i]);
+    d.of[i] = spatial::cross(d.ov[i], d.oh[i]);
     d.oYdot[i] = W::rate(d.oYcrb[i], d.ov[i]);
   }
   if constexpr (HasFext)
     d.of[i] -= d.oMi[i].act((*fext)[i]);
+}
+
+/// Forward pass of the derivative sweep for body i, the acceleration part: data.oa, ddS, and the
+/// inertial force Y a added to data.of. a is the joint acceleration vector.
+template <class R, int i, class S, class V, class A>
+ARBOR_INLINE void deriv_forward_acceleration(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
+                                             const Eigen::MatrixBase<A>& a, const Vec3<S>& g) {
+  using B = spatial::BodyOps<R, i, S>;
+  const Motion<S> Sc = Motion<S>::from(d.J.col(i));
+  const S ai = S(a[i]);
+  if constexpr (B::parent < 0) {
+    // v_p = 0, a_p = (-g, 0): ddS = (-g) x S = [-g x S.w; 0]
+    if constexpr (B::revolute)
+      d.ddS[i] = {Sc.w.cross(g), Vec3<S>::Zero()};
+    else
+      d.ddS[i] = Motion<S>::Zero();
+    d.oa[i] = {Sc.v * ai - g, Sc.w * ai};
+  } else {
+    constexpr int p = B::parent;
+    const Motion<S>& ap = d.oa[p];
+    d.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(d.ov[p], d.dS[i]);
+    d.oa[i] = ap + d.dS[i] * S(v[i]) + Sc * ai;
+  }
+  if constexpr (!WorldInertia<R, i, S>::massless)
+    d.of[i] += d.oYcrb[i] * d.oa[i];
 }
 
 /// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
@@ -291,8 +306,11 @@ ARBOR_INLINE void rnea_derivatives_impl(Data<R, S>& d, const Eigen::MatrixBase<Q
                                         const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
                                         const typename Data<R, S>::ForceArray* fext) {
   joint_states(d, q);
-  static_for<R::nb>(
-      [&](auto I) { deriv_forward_body<R, decltype(I)::value, HasFext>(d, v, a, g, fext); });
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    deriv_forward_velocity<R, i, HasFext>(d, v, fext);
+    deriv_forward_acceleration<R, i>(d, v, a, g);
+  });
   static_for_reverse<R::nb>([&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d); });
 }
 
