@@ -116,22 +116,6 @@ ARBOR_INLINE Eigen::Matrix<S, 1, L> row_dot(const Blk& blk, int from, const Vec3
   return r;
 }
 
-/// The world column S of body i's joint and its axis (from data.oMi).
-template <class R, int i, class S>
-ARBOR_INLINE Motion<S> world_S(const Data<R, S>& d) {
-  using B = spatial::BodyOps<R, i, S>;
-  const SE3<S>& o = d.oMi[i];
-  Vec3<S> axis;
-  if constexpr (B::aligned)
-    axis = (B::sign > 0) ? Vec3<S>(o.R.col(B::k)) : Vec3<S>(-o.R.col(B::k));
-  else
-    axis = spatial::cst::mat_cvec<S, typename B::AxisV>(o.R);
-  if constexpr (B::revolute)
-    return {o.p.cross(axis), axis};
-  else
-    return {axis, Vec3<S>::Zero()};
-}
-
 /// Forward pass of the derivative sweep for body i, the part independent of the joint
 /// accelerations: placement, world column (into data.J), velocity, dS, the body's own inertia,
 /// rate and momentum (the start of the composite sums), and its force without the joint
@@ -142,7 +126,7 @@ ARBOR_INLINE void deriv_forward_velocity(Data<R, S>& d, const Eigen::MatrixBase<
   using B = spatial::BodyOps<R, i, S>;
   using W = WorldInertia<R, i, S>;
   body_placement<R, i, S>(d);
-  const Motion<S> Sc = world_S<R, i, S>(d);
+  const Motion<S> Sc = world_column<R, i, S>(d);
   d.J.col(i) << Sc.v, Sc.w;
   const S vi = S(v[i]);
   if constexpr (B::parent < 0) {
