@@ -13,6 +13,7 @@ packages=(
   clang libclang-rt-14-dev           # libFuzzer target of the generator
   clang-format                       # formatting check of generated headers
   valgrind                           # callgrind instruction counts
+  python3-matplotlib                 # AD report plot (bench/ad/report.sh)
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib  # Cortex-M7/M4F
   g++-aarch64-linux-gnu              # AArch64 Linux
   qemu-system-arm qemu-user          # emulators for the targets' tests

@@ -42,11 +42,16 @@ inline T sqrt(const T& x) {
   return T(math_detail::adl_sqrt(x));
 }
 
-/// Sine and cosine of the same angle (one call site, so a scalar type may share work).
+/// Sine and cosine of the same angle (one call site, so a scalar type may share work). A scalar
+/// type that can compute both at once provides `arbor_sincos(x, s, c)`, found by ADL.
 template <class T>
 inline void sincos(const T& x, T& s, T& c) {
-  s = arbor::sin(x);
-  c = arbor::cos(x);
+  if constexpr (requires { arbor_sincos(x, s, c); }) {
+    arbor_sincos(x, s, c);
+  } else {
+    s = arbor::sin(x);
+    c = arbor::cos(x);
+  }
 }
 
 }  // namespace arbor

@@ -1,0 +1,203 @@
+// arbor: an operation-counting scalar.
+//
+// Counted carries a double value and knows whether it is a known constant. Arithmetic folds the
+// way a symbolic tool (CasADi's SX) would, and counts every other operation by kind, so that
+// instantiating an algorithm with Counted (or Dual<Counted, N>) gives its number of atomic
+// operations, comparable with the paper's Table 1.
+//
+// Folding rules (free, no count):
+//   constant op constant            -> constant
+//   x * 0, 0 * x, 0 / x             -> constant 0
+//   x * 1, 1 * x, x / 1, x + 0, 0 + x, x - 0, +x  -> x (the same node)
+//   x - x (the same node)           -> constant 0
+//   x / x (the same node)           -> constant 1
+// Rewrites (counted as one negation): x * -1, -1 * x, x / -1, 0 - x.
+// Everything else counts one operation of its kind: add (+ and -), mul, div, neg, sqrt, sin,
+// cos. sincos of a non-constant counts one sin and one cos. Copies are free; comparisons are
+// free and compare values.
+//
+// "The same node" means a value produced by the same operation (or the same input), tracked by
+// an identifier: copies share it, every counted operation makes a new one.
+//
+// The tally is one global (op_tally()), for single-threaded measurement in tests and
+// benchmarks; reset it, run the algorithm, read it. Not for target code.
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+
+#include "arbor/core/math.hpp"
+
+namespace arbor::ad {
+
+/// Operation counts by kind.
+struct OpTally {
+  std::uint64_t add = 0;   ///< additions and subtractions
+  std::uint64_t mul = 0;   ///< multiplications
+  std::uint64_t div = 0;   ///< divisions
+  std::uint64_t neg = 0;   ///< negations
+  std::uint64_t sqrt = 0;  ///< square roots
+  std::uint64_t sin = 0;   ///< sines
+  std::uint64_t cos = 0;   ///< cosines
+  /// All operations.
+  constexpr std::uint64_t total() const { return add + mul + div + neg + sqrt + sin + cos; }
+};
+
+namespace detail {
+struct OpCounterState {
+  OpTally tally;
+  std::uint64_t next_id = 1;
+};
+inline OpCounterState op_counter_state;
+}  // namespace detail
+
+/// The running tally (global; single-threaded use).
+inline OpTally& op_tally() {
+  return detail::op_counter_state.tally;
+}
+/// Resets the tally to zero.
+inline void reset_op_tally() {
+  detail::op_counter_state.tally = OpTally{};
+}
+
+/// A double that counts the operations applied to it. Default and double-constructed values
+/// are constants; Counted::input(x) makes a symbolic input.
+class Counted {
+ public:
+  constexpr Counted() = default;
+  /// A known constant.
+  constexpr Counted(double x) : v_(x), id_(0) {}  // NOLINT(google-explicit-constructor)
+  /// A symbolic input with value x (a new node).
+  static Counted input(double x) { return Counted(x, fresh()); }
+
+  /// The numeric value.
+  constexpr double value() const { return v_; }
+  /// True for a known constant.
+  constexpr bool is_constant() const { return id_ == 0; }
+  /// Node identifier (0 for constants).
+  constexpr std::uint64_t id() const { return id_; }
+
+  friend Counted operator+(const Counted& a) { return a; }
+  friend Counted operator-(const Counted& a) {
+    if (a.is_constant())
+      return Counted(-a.v_);
+    return op(-a.v_, op_tally().neg);
+  }
+  friend Counted operator+(const Counted& a, const Counted& b) {
+    if (a.is_constant() && b.is_constant())
+      return Counted(a.v_ + b.v_);
+    if (a.is_zero())
+      return b;
+    if (b.is_zero())
+      return a;
+    return op(a.v_ + b.v_, op_tally().add);
+  }
+  friend Counted operator-(const Counted& a, const Counted& b) {
+    if (a.is_constant() && b.is_constant())
+      return Counted(a.v_ - b.v_);
+    if (b.is_zero())
+      return a;
+    if (a.is_zero())
+      return -b;
+    if (a.id_ == b.id_)
+      return Counted(0.0);
+    return op(a.v_ - b.v_, op_tally().add);
+  }
+  friend Counted operator*(const Counted& a, const Counted& b) {
+    if (a.is_constant() && b.is_constant())
+      return Counted(a.v_ * b.v_);
+    if (a.is_zero() || b.is_zero())
+      return Counted(0.0);
+    if (a.is_one())
+      return b;
+    if (b.is_one())
+      return a;
+    if (a.is_minus_one())
+      return -b;
+    if (b.is_minus_one())
+      return -a;
+    return op(a.v_ * b.v_, op_tally().mul);
+  }
+  friend Counted operator/(const Counted& a, const Counted& b) {
+    if (a.is_constant() && b.is_constant())
+      return Counted(a.v_ / b.v_);
+    if (a.is_zero())
+      return Counted(0.0);
+    if (b.is_one())
+      return a;
+    if (b.is_minus_one())
+      return -a;
+    if (a.id_ == b.id_)
+      return Counted(1.0);
+    return op(a.v_ / b.v_, op_tally().div);
+  }
+  Counted& operator+=(const Counted& b) { return *this = *this + b; }
+  Counted& operator-=(const Counted& b) { return *this = *this - b; }
+  Counted& operator*=(const Counted& b) { return *this = *this * b; }
+  Counted& operator/=(const Counted& b) { return *this = *this / b; }
+
+  friend bool operator==(const Counted& a, const Counted& b) { return a.v_ == b.v_; }
+  friend bool operator<(const Counted& a, const Counted& b) { return a.v_ < b.v_; }
+  friend bool operator>(const Counted& a, const Counted& b) { return a.v_ > b.v_; }
+  friend bool operator<=(const Counted& a, const Counted& b) { return a.v_ <= b.v_; }
+  friend bool operator>=(const Counted& a, const Counted& b) { return a.v_ >= b.v_; }
+
+  friend Counted sqrt(const Counted& a) {
+    if (a.is_constant())
+      return Counted(std::sqrt(a.v_));
+    return op(std::sqrt(a.v_), op_tally().sqrt);
+  }
+  friend Counted sin(const Counted& a) {
+    if (a.is_constant())
+      return Counted(std::sin(a.v_));
+    return op(std::sin(a.v_), op_tally().sin);
+  }
+  friend Counted cos(const Counted& a) {
+    if (a.is_constant())
+      return Counted(std::cos(a.v_));
+    return op(std::cos(a.v_), op_tally().cos);
+  }
+  friend Counted abs(const Counted& a) { return a.v_ < 0 ? -a : a; }
+
+ private:
+  constexpr Counted(double x, std::uint64_t id) : v_(x), id_(id) {}
+  static std::uint64_t fresh() { return detail::op_counter_state.next_id++; }
+  static Counted op(double x, std::uint64_t& kind) {
+    ++kind;
+    return Counted(x, fresh());
+  }
+  constexpr bool is_zero() const { return id_ == 0 && v_ == 0.0; }
+  constexpr bool is_one() const { return id_ == 0 && v_ == 1.0; }
+  constexpr bool is_minus_one() const { return id_ == 0 && v_ == -1.0; }
+
+  double v_ = 0.0;
+  std::uint64_t id_ = 0;
+};
+
+}  // namespace arbor::ad
+
+namespace Eigen {
+/// Counted is a real scalar to Eigen (no vectorisation).
+template <>
+struct NumTraits<arbor::ad::Counted> : NumTraits<double> {
+  using Real = arbor::ad::Counted;
+  using NonInteger = arbor::ad::Counted;
+  using Nested = arbor::ad::Counted;
+  using Literal = arbor::ad::Counted;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = 1,
+    AddCost = 1,
+    MulCost = 1
+  };
+  static inline Real epsilon() { return Real(NumTraits<double>::epsilon()); }
+  static inline Real dummy_precision() { return Real(NumTraits<double>::dummy_precision()); }
+  static inline Real highest() { return Real(NumTraits<double>::highest()); }
+  static inline Real lowest() { return Real(NumTraits<double>::lowest()); }
+  static inline int digits10() { return NumTraits<double>::digits10(); }
+};
+}  // namespace Eigen
