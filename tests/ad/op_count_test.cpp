@@ -195,4 +195,44 @@ TEST(OpCount, DualsOverCountedFoldTheirSeeds) {
   EXPECT_DOUBLE_EQ(r.d[1].value(), 0.5);
 }
 
+TEST(OpCount, TapeCountsOnlyLiveOperations) {
+  static arbor::ad::OpTape<64> tape;
+  static bool flags[64];
+  const Counted x = Counted::input(2.0), y = Counted::input(3.0);
+  Counted out, dead;
+  {
+    arbor::test::NoAllocScope guard;
+    reset_op_tally();
+    tape.start();
+    const Counted p = x * y;       // live
+    dead = arbor::sin(p) + x;      // not an output: dead
+    out = p - arbor::sqrt(y) / x;  // live: sqrt, div, sub
+    tape.stop();
+  }
+  EXPECT_EQ(op_tally().total(), 6u);  // mul, sin, add, sqrt, div, sub executed
+  EXPECT_EQ(tape.recorded(), 6u);
+  EXPECT_FALSE(tape.overflowed());
+  const std::uint64_t ids[] = {out.id()};
+  const OpTally live = tape.live(ids, flags);
+  EXPECT_EQ(live.mul, 1u);
+  EXPECT_EQ(live.sqrt, 1u);
+  EXPECT_EQ(live.div, 1u);
+  EXPECT_EQ(live.add, 1u);
+  EXPECT_EQ(live.sin, 0u);
+  EXPECT_EQ(live.total(), 4u);
+  // both outputs: everything is live
+  const std::uint64_t both[] = {out.id(), dead.id()};
+  EXPECT_EQ(tape.live(both, flags).total(), 6u);
+  // a constant output costs nothing; an input output neither
+  const std::uint64_t none[] = {Counted(1.0).id(), x.id()};
+  EXPECT_EQ(tape.live(none, flags).total(), 0u);
+  // overflow is reported, not silently truncated
+  static arbor::ad::OpTape<2> small;
+  small.start();
+  Counted r = x * y + x;
+  r = r * r;
+  small.stop();
+  EXPECT_TRUE(small.overflowed());
+}
+
 }  // namespace

@@ -20,11 +20,14 @@
 // an identifier: copies share it, every counted operation makes a new one.
 //
 // The tally is one global (op_tally()), for single-threaded measurement in tests and
-// benchmarks; reset it, run the algorithm, read it. Not for target code.
+// benchmarks; reset it, run the algorithm, read it. Not for target code. The tally counts every
+// operation executed; an OpTape records the graph so that OpTape::live() counts only the
+// operations the outputs depend on (dead-code elimination, as a symbolic tool's graph would be).
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "arbor/core/math.hpp"
@@ -44,13 +47,123 @@ struct OpTally {
   constexpr std::uint64_t total() const { return add + mul + div + neg + sqrt + sin + cos; }
 };
 
+/// Kind of a recorded operation.
+enum class OpKind : std::uint8_t { Input, Add, Mul, Div, Neg, Sqrt, Sin, Cos };
+
+/// Optional record of the operations, to count only the live ones: those an output depends on
+/// (what a symbolic tool keeps after dead-code elimination; CasADi's counts are of this kind).
+/// Capacity is a template parameter; the storage is the object's, so place large tapes in static
+/// storage. Recording stops (and overflowed() turns true) when it is full.
+template <std::size_t Capacity>
+class OpTape;
+
 namespace detail {
+/// What the recorder needs to know of a tape, without its capacity.
+struct OpTapeBase {
+  struct Entry {
+    std::uint64_t a, b;  ///< operand node ids (0: none or constant)
+    OpKind kind;         ///< operation
+  };
+  Entry* entries = nullptr;    ///< storage
+  std::size_t capacity = 0;    ///< entries available
+  std::size_t size = 0;        ///< entries recorded
+  std::uint64_t first_id = 0;  ///< node id of entries[0]
+  bool overflow = false;       ///< ran out of space
+  void record(std::uint64_t id, OpKind kind, std::uint64_t a, std::uint64_t b) {
+    if (size == 0)
+      first_id = id;
+    if (size >= capacity || id != first_id + size) {
+      overflow = true;
+      return;
+    }
+    entries[size++] = Entry{a, b, kind};
+  }
+};
 struct OpCounterState {
   OpTally tally;
   std::uint64_t next_id = 1;
+  OpTapeBase* tape = nullptr;
 };
 inline OpCounterState op_counter_state;
 }  // namespace detail
+
+template <std::size_t Capacity>
+class OpTape : private detail::OpTapeBase {
+ public:
+  OpTape() {
+    entries = storage_;
+    capacity = Capacity;
+  }
+  OpTape(const OpTape&) = delete;
+  OpTape& operator=(const OpTape&) = delete;
+  ~OpTape() { stop(); }
+  /// Clears the tape and records every new node (inputs and counted operations) from now on.
+  void start() {
+    size = 0;
+    overflow = false;
+    detail::op_counter_state.tape = this;
+  }
+  /// Stops recording.
+  void stop() {
+    if (detail::op_counter_state.tape == this)
+      detail::op_counter_state.tape = nullptr;
+  }
+  /// True if operations were lost (the counts below are then meaningless).
+  bool overflowed() const { return overflow; }
+  /// Operations recorded.
+  std::size_t recorded() const { return size; }
+  /// Operations that the given output node ids depend on, by kind (constants have id 0 and
+  /// cost nothing; nodes made before start() count as inputs). `live` is caller-provided
+  /// scratch of at least recorded() flags.
+  template <class Ids>
+  OpTally live(const Ids& output_ids, bool* live) const {
+    for (std::size_t i = 0; i < size; ++i)
+      live[i] = false;
+    auto mark = [&](std::uint64_t id) {
+      if (id >= first_id && id < first_id + size)
+        live[id - first_id] = true;
+    };
+    for (std::uint64_t id : output_ids)
+      mark(id);
+    OpTally t;
+    for (std::size_t i = size; i-- > 0;) {
+      if (!live[i])
+        continue;
+      const Entry& e = entries[i];
+      mark(e.a);
+      mark(e.b);
+      switch (e.kind) {
+        case OpKind::Input:
+          break;
+        case OpKind::Add:
+          ++t.add;
+          break;
+        case OpKind::Mul:
+          ++t.mul;
+          break;
+        case OpKind::Div:
+          ++t.div;
+          break;
+        case OpKind::Neg:
+          ++t.neg;
+          break;
+        case OpKind::Sqrt:
+          ++t.sqrt;
+          break;
+        case OpKind::Sin:
+          ++t.sin;
+          break;
+        case OpKind::Cos:
+          ++t.cos;
+          break;
+      }
+    }
+    return t;
+  }
+
+ private:
+  Entry storage_[Capacity];
+};
 
 /// The running tally (global; single-threaded use).
 inline OpTally& op_tally() {
@@ -69,7 +182,7 @@ class Counted {
   /// A known constant.
   constexpr Counted(double x) : v_(x), id_(0) {}  // NOLINT(google-explicit-constructor)
   /// A symbolic input with value x (a new node).
-  static Counted input(double x) { return Counted(x, fresh()); }
+  static Counted input(double x) { return op(x, OpKind::Input, nullptr, 0, 0); }
 
   /// The numeric value.
   constexpr double value() const { return v_; }
@@ -82,7 +195,7 @@ class Counted {
   friend Counted operator-(const Counted& a) {
     if (a.is_constant())
       return Counted(-a.v_);
-    return op(-a.v_, op_tally().neg);
+    return op(-a.v_, OpKind::Neg, &op_tally().neg, a.id_, 0);
   }
   friend Counted operator+(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -91,7 +204,7 @@ class Counted {
       return b;
     if (b.is_zero())
       return a;
-    return op(a.v_ + b.v_, op_tally().add);
+    return op(a.v_ + b.v_, OpKind::Add, &op_tally().add, a.id_, b.id_);
   }
   friend Counted operator-(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -102,7 +215,7 @@ class Counted {
       return -b;
     if (a.id_ == b.id_)
       return Counted(0.0);
-    return op(a.v_ - b.v_, op_tally().add);
+    return op(a.v_ - b.v_, OpKind::Add, &op_tally().add, a.id_, b.id_);
   }
   friend Counted operator*(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -117,7 +230,7 @@ class Counted {
       return -b;
     if (b.is_minus_one())
       return -a;
-    return op(a.v_ * b.v_, op_tally().mul);
+    return op(a.v_ * b.v_, OpKind::Mul, &op_tally().mul, a.id_, b.id_);
   }
   friend Counted operator/(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -130,7 +243,7 @@ class Counted {
       return -a;
     if (a.id_ == b.id_)
       return Counted(1.0);
-    return op(a.v_ / b.v_, op_tally().div);
+    return op(a.v_ / b.v_, OpKind::Div, &op_tally().div, a.id_, b.id_);
   }
   Counted& operator+=(const Counted& b) { return *this = *this + b; }
   Counted& operator-=(const Counted& b) { return *this = *this - b; }
@@ -146,26 +259,30 @@ class Counted {
   friend Counted sqrt(const Counted& a) {
     if (a.is_constant())
       return Counted(std::sqrt(a.v_));
-    return op(std::sqrt(a.v_), op_tally().sqrt);
+    return op(std::sqrt(a.v_), OpKind::Sqrt, &op_tally().sqrt, a.id_, 0);
   }
   friend Counted sin(const Counted& a) {
     if (a.is_constant())
       return Counted(std::sin(a.v_));
-    return op(std::sin(a.v_), op_tally().sin);
+    return op(std::sin(a.v_), OpKind::Sin, &op_tally().sin, a.id_, 0);
   }
   friend Counted cos(const Counted& a) {
     if (a.is_constant())
       return Counted(std::cos(a.v_));
-    return op(std::cos(a.v_), op_tally().cos);
+    return op(std::cos(a.v_), OpKind::Cos, &op_tally().cos, a.id_, 0);
   }
   friend Counted abs(const Counted& a) { return a.v_ < 0 ? -a : a; }
 
  private:
   constexpr Counted(double x, std::uint64_t id) : v_(x), id_(id) {}
-  static std::uint64_t fresh() { return detail::op_counter_state.next_id++; }
-  static Counted op(double x, std::uint64_t& kind) {
-    ++kind;
-    return Counted(x, fresh());
+  static Counted op(double x, OpKind k, std::uint64_t* tally, std::uint64_t a, std::uint64_t b) {
+    auto& st = detail::op_counter_state;
+    if (tally)
+      ++*tally;
+    const std::uint64_t id = st.next_id++;
+    if (st.tape)
+      st.tape->record(id, k, a, b);
+    return Counted(x, id);
   }
   constexpr bool is_zero() const { return id_ == 0 && v_ == 0.0; }
   constexpr bool is_one() const { return id_ == 0 && v_ == 1.0; }

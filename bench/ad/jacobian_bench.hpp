@@ -1,0 +1,70 @@
+// Timings of the paper's Fig. 1 (J^a and J^c of FD and ID) and Table 2 (Hessians of
+// lambda^T FD and lambda^T ID, H^c and H^a) with Google Benchmark. Benchmark names:
+// "<quantity>/<robot>", quantity in J_FD_a, J_FD_c, J_ID_a, J_ID_c, H_FD_c, H_FD_a, H_ID_c,
+// H_ID_a. bench/ad/report.sh turns them into tables and the PNG.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <arbor/ad/rbd_functions.hpp>
+#include <string>
+
+namespace arbor::bench_ad {
+
+template <int N>
+VecN<double, N> inputs(double offset) {
+  VecN<double, N> x;
+  for (int i = 0; i < N; ++i)
+    x[i] = 0.3 + offset + 0.37 * i - 0.05 * (i % 5) * i;
+  return x;
+}
+
+template <class F, class Tag>
+void bm_jacobian(benchmark::State& st) {
+  const auto x = inputs<F::nin>(0.0);
+  VecN<double, F::nout> y;
+  static Eigen::Matrix<double, F::nout, F::nin> J;
+  for (auto _ : st) {
+    ad::jacobian<Tag, F>(x, y, J);
+    benchmark::DoNotOptimize(J.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+template <class F, class Tag>
+void bm_hessian(benchmark::State& st) {
+  const auto x = inputs<F::nin>(0.0);
+  const auto lambda = inputs<F::nout>(0.1);
+  VecN<double, F::nout> y;
+  static Eigen::Matrix<double, F::nin, F::nin> H;
+  for (auto _ : st) {
+    ad::hessian<Tag, F>(x, lambda, y, H);
+    benchmark::DoNotOptimize(H.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+/// Registers J_FD_a, J_FD_c, J_ID_a, J_ID_c of robot R (and the Hessians if requested).
+template <class R, bool Hessians>
+void register_robot(const std::string& name) {
+  using FD = ad::ForwardDynamics<R>;
+  using ID = ad::InverseDynamics<R>;
+  benchmark::RegisterBenchmark(("J_FD_a/" + name).c_str(), bm_jacobian<FD, ad::Analytical>);
+  benchmark::RegisterBenchmark(("J_FD_c/" + name).c_str(), bm_jacobian<FD, ad::AutoDiff>);
+  benchmark::RegisterBenchmark(("J_ID_a/" + name).c_str(), bm_jacobian<ID, ad::Analytical>);
+  benchmark::RegisterBenchmark(("J_ID_c/" + name).c_str(), bm_jacobian<ID, ad::AutoDiff>);
+  if constexpr (Hessians) {
+    benchmark::RegisterBenchmark(("H_FD_c/" + name).c_str(), bm_hessian<FD, ad::AutoDiff>);
+    benchmark::RegisterBenchmark(("H_FD_a/" + name).c_str(), bm_hessian<FD, ad::Analytical>);
+    benchmark::RegisterBenchmark(("H_ID_c/" + name).c_str(), bm_hessian<ID, ad::AutoDiff>);
+    benchmark::RegisterBenchmark(("H_ID_a/" + name).c_str(), bm_hessian<ID, ad::Analytical>);
+  }
+}
+
+void register_double_pendulum();
+void register_iiwa7();
+void register_kinova_gen3();
+void register_yumi_no_grippers();
+void register_atlas();
+
+}  // namespace arbor::bench_ad
