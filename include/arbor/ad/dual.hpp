@@ -49,17 +49,11 @@ struct Dual {
 
   constexpr Dual() = default;
   /// A constant (all derivatives zero).
-  constexpr Dual(const T& x)
-      : v(x), d() {}  // NOLINT(google-explicit-constructor): scalar semantics
+  constexpr Dual(const T& x) : v(x) {}  // NOLINT(google-explicit-constructor): scalar semantics
   /// A constant from a plain number (for nested duals: Dual<Dual<double, N>, M>(0.5)).
   template <Arithmetic A>
   requires(!std::is_same_v<A, T>) constexpr Dual(A x)
       : v(T(x)) {}  // NOLINT(google-explicit-constructor)
-
-  /// Tag of the uninitialised constructor (for results whose every entry is then written).
-  struct NoInit {};
-  /// Uninitialised (every entry must be written before use).
-  constexpr explicit Dual(NoInit) {}
 
   /// A variable: value x, derivative 1 along direction k and 0 along the others.
   static constexpr Dual variable(const T& x, int k) {
@@ -116,35 +110,35 @@ struct Dual {
   // ---- arithmetic (hidden friends: found only through a Dual argument) -----------------------
   friend constexpr Dual operator+(const Dual& a) { return a; }
   friend constexpr Dual operator-(const Dual& a) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = -a.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = -a.d[k];
     return r;
   }
   friend constexpr Dual operator+(const Dual& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = a.v + b.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = a.d[k] + b.d[k];
     return r;
   }
   friend constexpr Dual operator-(const Dual& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = a.v - b.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = a.d[k] - b.d[k];
     return r;
   }
   friend constexpr Dual operator*(const Dual& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = a.v * b.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = a.v * b.d[k] + a.d[k] * b.v;
     return r;
   }
   friend constexpr Dual operator/(const Dual& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     const T inv = T(1) / b.v;
     r.v = a.v * inv;
     for (int k = 0; k < N; ++k)
@@ -164,14 +158,14 @@ struct Dual {
     return r;
   }
   friend constexpr Dual operator-(const T& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = a - b.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = -b.d[k];
     return r;
   }
   friend constexpr Dual operator*(const Dual& a, const T& b) {
-    Dual r{NoInit{}};
+    Dual r;
     r.v = a.v * b;
     for (int k = 0; k < N; ++k)
       r.d[k] = a.d[k] * b;
@@ -180,7 +174,7 @@ struct Dual {
   friend constexpr Dual operator*(const T& a, const Dual& b) { return b * a; }
   friend constexpr Dual operator/(const Dual& a, const T& b) { return a * (T(1) / b); }
   friend constexpr Dual operator/(const T& a, const Dual& b) {
-    Dual r{NoInit{}};
+    Dual r;
     const T inv = T(1) / b.v;
     r.v = a * inv;
     const T m = -r.v * inv;
@@ -233,8 +227,7 @@ struct Dual {
   friend Dual sin(const Dual& a) {
     T s, c;
     arbor::sincos(a.v, s, c);
-    Dual r{NoInit{}};
-    r.v = s;
+    Dual r(s);
     for (int k = 0; k < N; ++k)
       r.d[k] = c * a.d[k];
     return r;
@@ -242,8 +235,7 @@ struct Dual {
   friend Dual cos(const Dual& a) {
     T s, c;
     arbor::sincos(a.v, s, c);
-    Dual r{NoInit{}};
-    r.v = c;
+    Dual r(c);
     const T ms = -s;
     for (int k = 0; k < N; ++k)
       r.d[k] = ms * a.d[k];
@@ -261,8 +253,7 @@ struct Dual {
     }
   }
   friend Dual sqrt(const Dual& a) {
-    Dual r{NoInit{}};
-    r.v = arbor::sqrt(a.v);
+    Dual r(arbor::sqrt(a.v));
     const T h = T(0.5) / r.v;
     for (int k = 0; k < N; ++k)
       r.d[k] = h * a.d[k];
