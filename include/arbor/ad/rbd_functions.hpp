@@ -67,11 +67,23 @@ void unseed(const VecN<Dual<T, N>, M>& yd, VecN<T, M>& y, Eigen::Matrix<T, M, N>
       J(i, k) = yd[i].d[k];
   }
 }
+/// J^c: one pass of Dual<T, F::nin> through F::value, seeded with the unit directions.
+template <class F, class T>
+void autodiff_jacobian(const VecN<T, F::nin>& x, VecN<T, F::nout>& y,
+                       Eigen::Matrix<T, F::nout, F::nin>& J) {
+  using D = Dual<T, F::nin>;
+  VecN<D, F::nin> xd;
+  seed<T, F::nin>(x, xd);
+  VecN<D, F::nout> yd;
+  F::template value<D>(xd, yd);
+  unseed<T, F::nin, F::nout>(yd, y, J);
+}
 }  // namespace detail
 
 /// Forward dynamics x = (q, v, tau) -> ddq of robot R.
 template <Robot R>
 struct ForwardDynamics {
+  using Self = ForwardDynamics;       ///< this function object
   static constexpr int nv = R::nv;    ///< DoF
   static constexpr int nin = 3 * nv;  ///< inputs (q, v, tau)
   static constexpr int nout = nv;     ///< outputs (ddq)
@@ -99,12 +111,7 @@ struct ForwardDynamics {
       J.template rightCols<nv>() = d.Minv;
     } else {
       static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      using D = Dual<T, nin>;
-      VecN<D, nin> xd;
-      detail::seed<T, nin>(x, xd);
-      VecN<D, nout> yd;
-      value<D>(xd, yd);
-      detail::unseed<T, nin, nout>(yd, y, J);
+      detail::autodiff_jacobian<Self>(x, y, J);
     }
   }
 };
@@ -112,6 +119,7 @@ struct ForwardDynamics {
 /// Inverse dynamics x = (q, v, a) -> tau of robot R.
 template <Robot R>
 struct InverseDynamics {
+  using Self = InverseDynamics;       ///< this function object
   static constexpr int nv = R::nv;    ///< DoF
   static constexpr int nin = 3 * nv;  ///< inputs (q, v, a)
   static constexpr int nout = nv;     ///< outputs (tau)
@@ -139,12 +147,7 @@ struct InverseDynamics {
       J.template rightCols<nv>() = d.M;
     } else {
       static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      using D = Dual<T, nin>;
-      VecN<D, nin> xd;
-      detail::seed<T, nin>(x, xd);
-      VecN<D, nout> yd;
-      value<D>(xd, yd);
-      detail::unseed<T, nin, nout>(yd, y, J);
+      detail::autodiff_jacobian<Self>(x, y, J);
     }
   }
 };
@@ -152,6 +155,7 @@ struct InverseDynamics {
 /// World position of operational frame F of robot R: x = q -> p (3).
 template <Robot R, int F>
 struct FramePosition {
+  using Self = FramePosition;  ///< this function object
   static_assert(F >= 0 && F < R::nf, "frame index out of range");
   static constexpr int nin = R::nv;  ///< inputs (q)
   static constexpr int nout = 3;     ///< outputs (position)
@@ -174,12 +178,7 @@ struct FramePosition {
       y = d.oMf[F].p;
     } else {
       static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      using D = Dual<T, nin>;
-      VecN<D, nin> xd;
-      detail::seed<T, nin>(x, xd);
-      VecN<D, nout> yd;
-      value<D>(xd, yd);
-      detail::unseed<T, nin, nout>(yd, y, J);
+      detail::autodiff_jacobian<Self>(x, y, J);
     }
   }
 };
