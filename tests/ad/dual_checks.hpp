@@ -15,9 +15,7 @@
 #include <random>
 #include <string>
 
-#include "../dynamics/check_helpers.hpp"
-#include "alloc_guard.hpp"
-#include "reference.hpp"
+#include "../derivatives/derivative_checks.hpp"
 
 namespace arbor::test::dual_checks {
 
@@ -68,29 +66,20 @@ Eigen::Matrix<double, R::nv, 3 * R::nv> dual_jacobian(const Vec<R::nv>& x0, cons
 /// Central differences of the double-valued rnea / aba with respect to (x0, x1, x2).
 template <class R, Algo A>
 Eigen::Matrix<double, R::nv, 3 * R::nv> fd_jacobian(const Vec<R::nv>& x0, const Vec<R::nv>& x1,
-                                                    const Vec<R::nv>& x2, double h) {
+                                                    const Vec<R::nv>& x2) {
   constexpr int n = R::nv;
   auto d = std::make_unique<Data<R, double>>();
-  auto f = [&](const Vec<3 * n>& x) {
-    NoAllocScope guard;
-    if constexpr (A == Algo::Rnea) {
-      rnea<R>(*d, x.template segment<n>(0), x.template segment<n>(n), x.template segment<n>(2 * n));
-      return Vec<n>(d->tau);
-    } else {
-      aba<R>(*d, x.template segment<n>(0), x.template segment<n>(n), x.template segment<n>(2 * n));
-      return Vec<n>(d->ddq);
-    }
-  };
   Vec<3 * n> x;
   x << x0, x1, x2;
-  Eigen::Matrix<double, n, 3 * n> J;
-  for (int k = 0; k < 3 * n; ++k) {
-    Vec<3 *n> xp = x, xm = x;
-    xp[k] += h;
-    xm[k] -= h;
-    J.col(k) = (f(xp) - f(xm)) / (2 * h);
-  }
-  return J;
+  return derivative_checks::central_diff<n, 3 * n>(x, [&](const Vec<3 * n>& y) {
+    if constexpr (A == Algo::Rnea) {
+      rnea<R>(*d, y.template segment<n>(0), y.template segment<n>(n), y.template segment<n>(2 * n));
+      return Vec<n>(d->tau);
+    } else {
+      aba<R>(*d, y.template segment<n>(0), y.template segment<n>(n), y.template segment<n>(2 * n));
+      return Vec<n>(d->ddq);
+    }
+  });
 }
 
 /// The Dual Jacobian of rnea (A = Rnea: d tau / d(q, v, a)) or aba (A = Aba: d ddq / d(q, v,
@@ -134,7 +123,7 @@ void dual_matches_reference_and_analytical(const std::string& file_name, double 
       ARBOR_EXPECT_REL(J.template rightCols<n>(), id ? d->M : d->Minv, 1e-10);
     }
     if (k == 1) {
-      ARBOR_EXPECT_REL(J, (fd_jacobian<R, A>(q, v, x2, 1e-5)), tol_fd);
+      ARBOR_EXPECT_REL(J, (fd_jacobian<R, A>(q, v, x2)), tol_fd);
     }
   }
 }

@@ -11,8 +11,7 @@
 #include <robots/iiwa7.hpp>
 #include <robots/kinova_gen3.hpp>
 
-#include "../dynamics/check_helpers.hpp"
-#include "alloc_guard.hpp"
+#include "../derivatives/derivative_checks.hpp"
 
 namespace {
 
@@ -49,21 +48,13 @@ void hessians_agree(unsigned seed) {
   ARBOR_EXPECT_REL(Hc, Hc.transpose(), 1e-11);
   ARBOR_EXPECT_REL(Ha, Hc, 1e-10);
   // Central differences of the gradient g(x) = J(x)^T lambda.
-  const double h = 1e-5;
   Eigen::Matrix<double, m, n> J;
-  auto grad = [&](const VecN<double, n>& xx) {
-    VecN<double, m> yy;
-    NoAllocScope guard;
-    F::template value_and_jacobian<ad::Analytical>(xx, yy, J);
-    return VecN<double, n>(J.transpose() * lambda);
-  };
-  Eigen::Matrix<double, n, n> Hfd;
-  for (int k = 0; k < n; ++k) {
-    VecN<double, n> xp = x, xm = x;
-    xp[k] += h;
-    xm[k] -= h;
-    Hfd.col(k) = (grad(xp) - grad(xm)) / (2 * h);
-  }
+  const Eigen::Matrix<double, n, n> Hfd =
+      arbor::test::derivative_checks::central_diff<n, n>(x, [&](const VecN<double, n>& xx) {
+        VecN<double, m> yy;
+        F::template value_and_jacobian<ad::Analytical>(xx, yy, J);
+        return VecN<double, n>(J.transpose() * lambda);
+      });
   ARBOR_EXPECT_REL(Hc, Hfd, 1e-6);
   // Second order is not trivially zero: the q-q block of a dynamics Hessian is dense-ish.
   EXPECT_GT(Hc.cwiseAbs().maxCoeff(), 1e-3);

@@ -6,6 +6,7 @@
 //   template <class Tag, class T>
 //   static void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
 //                                  Eigen::Matrix<T, nout, nin>& J);
+// (the last from detail::JacobianProviders, given `template <class T> analytical(x, y, J)`).
 // The provider tag chooses where J comes from:
 //   Analytical  the analytical derivative routines (rnea_derivatives, aba_derivatives,
 //               frame_position_derivative): the paper's J^a;
@@ -78,12 +79,29 @@ void autodiff_jacobian(const VecN<T, F::nin>& x, VecN<T, F::nout>& y,
   F::template value<D>(xd, yd);
   unseed<T, F::nin, F::nout>(yd, y, J);
 }
+
+/// value_and_jacobian<Tag, T> of a function object F with static value<T> and analytical<T>
+/// (value and J^a from one pass): the one place where the provider tag is dispatched.
+template <class F>
+struct JacobianProviders {
+  /// y = F(x) and J = d y / d x from the provider Tag (Analytical: F::analytical; AutoDiff:
+  /// autodiff_jacobian). G only defers the sizes until F is complete.
+  template <class Tag, class T, class G = F>
+  static void value_and_jacobian(const VecN<T, G::nin>& x, VecN<T, G::nout>& y,
+                                 Eigen::Matrix<T, G::nout, G::nin>& J) {
+    if constexpr (std::is_same_v<Tag, Analytical>) {
+      G::analytical(x, y, J);
+    } else {
+      static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
+      autodiff_jacobian<G>(x, y, J);
+    }
+  }
+};
 }  // namespace detail
 
 /// Forward dynamics x = (q, v, tau) -> ddq of robot R.
 template <Robot R>
-struct ForwardDynamics {
-  using Self = ForwardDynamics;       ///< this function object
+struct ForwardDynamics : detail::JacobianProviders<ForwardDynamics<R>> {
   static constexpr int nv = R::nv;    ///< DoF
   static constexpr int nin = 3 * nv;  ///< inputs (q, v, tau)
   static constexpr int nout = nv;     ///< outputs (ddq)
@@ -97,29 +115,22 @@ struct ForwardDynamics {
     y = d.ddq;
   }
 
-  /// y = aba(q, v, tau) and J = d y / d x from the provider Tag.
-  template <class Tag, class T>
-  static void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
-                                 Eigen::Matrix<T, nout, nin>& J) {
-    if constexpr (std::is_same_v<Tag, Analytical>) {
-      auto& d = detail::workspace<R, T>;
-      aba_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
-                         x.template segment<nv>(2 * nv));
-      y = d.ddq;
-      J.template leftCols<nv>() = d.ddq_dq;
-      J.template middleCols<nv>(nv) = d.ddq_dv;
-      J.template rightCols<nv>() = d.Minv;
-    } else {
-      static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      detail::autodiff_jacobian<Self>(x, y, J);
-    }
+  /// y = aba(q, v, tau) and J^a = d y / d x from the analytical routine, in one pass.
+  template <class T>
+  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = detail::workspace<R, T>;
+    aba_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+                       x.template segment<nv>(2 * nv));
+    y = d.ddq;
+    J.template leftCols<nv>() = d.ddq_dq;
+    J.template middleCols<nv>(nv) = d.ddq_dv;
+    J.template rightCols<nv>() = d.Minv;
   }
 };
 
 /// Inverse dynamics x = (q, v, a) -> tau of robot R.
 template <Robot R>
-struct InverseDynamics {
-  using Self = InverseDynamics;       ///< this function object
+struct InverseDynamics : detail::JacobianProviders<InverseDynamics<R>> {
   static constexpr int nv = R::nv;    ///< DoF
   static constexpr int nin = 3 * nv;  ///< inputs (q, v, a)
   static constexpr int nout = nv;     ///< outputs (tau)
@@ -133,29 +144,22 @@ struct InverseDynamics {
     y = d.tau;
   }
 
-  /// y = rnea(q, v, a) and J = d y / d x from the provider Tag.
-  template <class Tag, class T>
-  static void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
-                                 Eigen::Matrix<T, nout, nin>& J) {
-    if constexpr (std::is_same_v<Tag, Analytical>) {
-      auto& d = detail::workspace<R, T>;
-      rnea_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
-                          x.template segment<nv>(2 * nv));
-      y = d.tau;
-      J.template leftCols<nv>() = d.dtau_dq;
-      J.template middleCols<nv>(nv) = d.dtau_dv;
-      J.template rightCols<nv>() = d.M;
-    } else {
-      static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      detail::autodiff_jacobian<Self>(x, y, J);
-    }
+  /// y = rnea(q, v, a) and J^a = d y / d x from the analytical routine, in one pass.
+  template <class T>
+  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = detail::workspace<R, T>;
+    rnea_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+                        x.template segment<nv>(2 * nv));
+    y = d.tau;
+    J.template leftCols<nv>() = d.dtau_dq;
+    J.template middleCols<nv>(nv) = d.dtau_dv;
+    J.template rightCols<nv>() = d.M;
   }
 };
 
 /// World position of operational frame F of robot R: x = q -> p (3).
 template <Robot R, int F>
-struct FramePosition {
-  using Self = FramePosition;  ///< this function object
+struct FramePosition : detail::JacobianProviders<FramePosition<R, F>> {
   static_assert(F >= 0 && F < R::nf, "frame index out of range");
   static constexpr int nin = R::nv;  ///< inputs (q)
   static constexpr int nout = 3;     ///< outputs (position)
@@ -168,18 +172,12 @@ struct FramePosition {
     y = frame_placement<R>(d, F).p;
   }
 
-  /// y and J = d y / d q from the provider Tag.
-  template <class Tag, class T>
-  static void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
-                                 Eigen::Matrix<T, nout, nin>& J) {
-    if constexpr (std::is_same_v<Tag, Analytical>) {
-      auto& d = detail::workspace<R, T>;
-      compute_frame_position_derivative<R>(d, x, F, J);
-      y = d.oMf[F].p;
-    } else {
-      static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      detail::autodiff_jacobian<Self>(x, y, J);
-    }
+  /// y and J^a = d y / d q from compute_frame_position_derivative, in one pass.
+  template <class T>
+  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = detail::workspace<R, T>;
+    compute_frame_position_derivative<R>(d, x, F, J);
+    y = d.oMf[F].p;
   }
 };
 
