@@ -1,7 +1,7 @@
 // Atomic-operation counts of the paper's Table 1 for one robot: FD, J_FD^c, J_FD^a, ID, J_ID^c,
 // J_ID^a, and of its Table 2: H_FD and H_ID by AD (H^c) and by AD over the analytical
 // Jacobians (H^a). Each is the total of arbor::ad::Counted's tally for one call with symbolic
-// inputs (see include/arbor/ad/op_count.hpp for what folds and what counts), in two flavours:
+// inputs (see tests/support/op_count.hpp for what folds and what counts), in two flavours:
 // executed (every operation the code performs) and live (only those the outputs depend on, from
 // an OpTape: what a symbolic tool such as CasADi keeps after dead-code elimination, which is
 // what the paper's counts are).
@@ -14,7 +14,7 @@
 #pragma once
 
 #include <arbor/ad/dual.hpp>
-#include <arbor/ad/op_count.hpp>
+#include "op_count.hpp"
 #include <arbor/ad/rbd_functions.hpp>
 #include <cstdint>
 #include <vector>

@@ -97,7 +97,7 @@ ARBOR_INLINE const void* call(Data<R, S>& d, Inputs<R, S>& in) {
   } else if constexpr (A == Algo::minverse) {
     return &minverse<R>(d, in.q);
   } else if constexpr (A == Algo::jacobian) {
-    compute_frame_jacobian<R>(d, in.q, R::nf - 1, ReferenceFrame::LocalWorldAligned, in.J);
+    compute_frame_jacobian<R>(d, in.q, R::nf - 1, ReferenceFrame::local_world_aligned, in.J);
     return &in.J;
   } else if constexpr (A == Algo::rnea_derivatives) {
     rnea_derivatives<R>(d, in.q, in.v, in.a);

@@ -122,21 +122,21 @@ std::string inertia(const MassProps& m, int indent) {
 const char* kind_name(Kind k) {
   switch (k) {
     case Kind::RX:
-      return "RevoluteX";
+      return "revolute_x";
     case Kind::RY:
-      return "RevoluteY";
+      return "revolute_y";
     case Kind::RZ:
-      return "RevoluteZ";
+      return "revolute_z";
     case Kind::RU:
-      return "RevoluteUnaligned";
+      return "revolute_unaligned";
     case Kind::PX:
-      return "PrismaticX";
+      return "prismatic_x";
     case Kind::PY:
-      return "PrismaticY";
+      return "prismatic_y";
     case Kind::PZ:
-      return "PrismaticZ";
+      return "prismatic_z";
     case Kind::PU:
-      return "PrismaticUnaligned";
+      return "prismatic_unaligned";
   }
   return "?";
 }

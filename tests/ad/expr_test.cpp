@@ -9,7 +9,7 @@
 
 #include <algorithm>
 #include <arbor/ad/expr.hpp>
-#include <arbor/ad/op_count.hpp>
+#include "op_count.hpp"
 #include <arbor/ad/rbd_functions.hpp>
 #include <cmath>
 #include <cstdint>

@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 #include <arbor/ad/dual.hpp>
-#include <arbor/ad/op_count.hpp>
+#include "op_count.hpp"
 
 #include "alloc_guard.hpp"
 

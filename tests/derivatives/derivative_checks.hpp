@@ -157,7 +157,7 @@ void frame_derivatives_match_finite_differences(unsigned seed) {
     };
     auto jx = [&](const Vec<n>& q) -> Vec<6> {
       Eigen::Matrix<double, 6, n> J;
-      compute_frame_jacobian<R>(*e, q, f, ReferenceFrame::LocalWorldAligned, J);
+      compute_frame_jacobian<R>(*e, q, f, ReferenceFrame::local_world_aligned, J);
       return J * x;
     };
     ARBOR_EXPECT_REL(Dp, (central_diff<3, n>(s.q, pos)), kFdTol);

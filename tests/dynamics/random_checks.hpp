@@ -175,7 +175,7 @@ void identities() {
     Eigen::Matrix<double, 6, n> J;
     for (int f = 0; f < R::nf; ++f) {
       for (ReferenceFrame rf :
-           {ReferenceFrame::World, ReferenceFrame::Local, ReferenceFrame::LocalWorldAligned}) {
+           {ReferenceFrame::world, ReferenceFrame::local, ReferenceFrame::local_world_aligned}) {
         arbor::Motion<double> vf;
         {
           NoAllocScope guard;
@@ -189,7 +189,7 @@ void identities() {
       // finite differences of the frame placement against the LocalWorldAligned Jacobian
       {
         NoAllocScope guard;
-        arbor::compute_frame_jacobian<R>(*d, s.q, f, ReferenceFrame::LocalWorldAligned, J);
+        arbor::compute_frame_jacobian<R>(*d, s.q, f, ReferenceFrame::local_world_aligned, J);
       }
       const double h = 1e-6;
       Eigen::Matrix<double, 6, n> Jfd;
@@ -276,8 +276,8 @@ void float_matches_double() {
     Eigen::Matrix<double, 6, n> J;
     {
       NoAllocScope guard;
-      arbor::compute_frame_jacobian<R>(*d, s.q, 0, ReferenceFrame::Local, J);
-      arbor::compute_frame_jacobian<R>(*df, qf, 0, ReferenceFrame::Local, Jf);
+      arbor::compute_frame_jacobian<R>(*d, s.q, 0, ReferenceFrame::local, J);
+      arbor::compute_frame_jacobian<R>(*df, qf, 0, ReferenceFrame::local, Jf);
     }
     ARBOR_EXPECT_REL(Jf, J, 1e-5);
   }

@@ -129,17 +129,17 @@ TEST(ModelData, JointNamesAndOrder) {
 TEST(ModelData, JointKinds) {
   // Both pendulum axes are "1 0 0"; every arm joint is about +Z in its own frame.
   for (auto k : DoublePendulum::joint_kind)
-    EXPECT_EQ(k, JointKind::RevoluteX);
+    EXPECT_EQ(k, JointKind::revolute_x);
   for (auto k : Iiwa7::joint_kind)
-    EXPECT_EQ(k, JointKind::RevoluteZ);
+    EXPECT_EQ(k, JointKind::revolute_z);
   for (auto k : KinovaGen3::joint_kind)
-    EXPECT_EQ(k, JointKind::RevoluteZ);
+    EXPECT_EQ(k, JointKind::revolute_z);
   for (auto k : YumiNoGrippers::joint_kind)
-    EXPECT_EQ(k, JointKind::RevoluteZ);
-  // Atlas: l_arm_shx has axis "-1 0 0" in the URDF (kept as RevoluteX with a negative axis).
+    EXPECT_EQ(k, JointKind::revolute_z);
+  // Atlas: l_arm_shx has axis "-1 0 0" in the URDF (kept as revolute_x with a negative axis).
   const int shx = arbor::model::joint_index<Atlas>("l_arm_shx");
   ASSERT_GE(shx, 0);
-  EXPECT_EQ(Atlas::joint_kind[shx], JointKind::RevoluteX);
+  EXPECT_EQ(Atlas::joint_kind[shx], JointKind::revolute_x);
   EXPECT_EQ(Atlas::joint_axis[shx][0], -1.0);
 }
 
@@ -206,14 +206,14 @@ TEST(MergedUrdf, TopologyInDocumentOrder) {
   // sorts first, so a name-ordered walk would put it first).
   EXPECT_EQ(joint_names<R>(), (std::vector<std::string>{"j1", "j2", "j3", "j0_branch"}));
   EXPECT_EQ(R::parent, (std::array<int, 4>{-1, 0, 1, -1}));
-  EXPECT_EQ(R::joint_kind[0], JointKind::RevoluteZ);
-  EXPECT_EQ(R::joint_kind[1], JointKind::PrismaticY);
+  EXPECT_EQ(R::joint_kind[0], JointKind::revolute_z);
+  EXPECT_EQ(R::joint_kind[1], JointKind::prismatic_y);
   EXPECT_EQ(R::joint_axis[1][1], -1.0);
-  EXPECT_EQ(R::joint_kind[2], JointKind::RevoluteUnaligned);
+  EXPECT_EQ(R::joint_kind[2], JointKind::revolute_unaligned);
   EXPECT_NEAR(R::joint_axis[2][0], std::sqrt(0.5), 1e-15);
   EXPECT_NEAR(R::joint_axis[2][1], std::sqrt(0.5), 1e-15);
   EXPECT_EQ(R::joint_axis[2][2], 0.0);
-  EXPECT_EQ(R::joint_kind[3], JointKind::RevoluteX);
+  EXPECT_EQ(R::joint_kind[3], JointKind::revolute_x);
   EXPECT_EQ(R::joint_axis[3][0], -1.0);
 }
 

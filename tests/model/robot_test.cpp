@@ -21,8 +21,8 @@ struct Good {
   static constexpr std::string_view name = "good";
   static constexpr int nq = 2, nv = 2, nb = 2, nf = 2;
   static constexpr std::array<int, nb> parent = {-1, 0};
-  static constexpr std::array<JointKind, nb> joint_kind = {JointKind::RevoluteZ,
-                                                           JointKind::PrismaticUnaligned};
+  static constexpr std::array<JointKind, nb> joint_kind = {JointKind::revolute_z,
+                                                           JointKind::prismatic_unaligned};
   static constexpr std::array<Vec3, nb> joint_axis = {{{{0, 0, 1}}, {{0.6, 0.8, 0}}}};
   static constexpr std::array<Placement, nb> joint_placement = {kIdentity, kIdentity};
   static constexpr std::array<Inertia, nb> body_inertia = {kUnit, kUnit};
@@ -94,12 +94,12 @@ TEST(RobotContract, Lookups) {
 }
 
 TEST(JointKinds, Classification) {
-  EXPECT_TRUE(is_revolute(JointKind::RevoluteUnaligned));
-  EXPECT_TRUE(is_prismatic(JointKind::PrismaticX));
-  EXPECT_FALSE(is_aligned(JointKind::PrismaticUnaligned));
-  EXPECT_EQ(axis_index(JointKind::RevoluteY), 1);
-  EXPECT_EQ(axis_index(JointKind::PrismaticZ), 2);
-  EXPECT_EQ(axis_index(JointKind::RevoluteUnaligned), -1);
+  EXPECT_TRUE(is_revolute(JointKind::revolute_unaligned));
+  EXPECT_TRUE(is_prismatic(JointKind::prismatic_x));
+  EXPECT_FALSE(is_aligned(JointKind::prismatic_unaligned));
+  EXPECT_EQ(axis_index(JointKind::revolute_y), 1);
+  EXPECT_EQ(axis_index(JointKind::prismatic_z), 2);
+  EXPECT_EQ(axis_index(JointKind::revolute_unaligned), -1);
 }
 
 }  // namespace

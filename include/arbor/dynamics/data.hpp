@@ -23,9 +23,9 @@ using spatial::SE3;
 
 /// Frame in which a Jacobian or a frame velocity is expressed (Pinocchio's ReferenceFrame).
 enum class ReferenceFrame {
-  World,              ///< world frame, at the world origin (spatial velocity)
-  Local,              ///< the frame itself
-  LocalWorldAligned,  ///< at the frame origin, with world axes
+  world,                ///< world frame, at the world origin (spatial velocity)
+  local,                ///< the frame itself
+  local_world_aligned,  ///< at the frame origin, with world axes
 };
 
 /// Workspace of every algorithm for robot R and scalar S. Body quantities are in body frames

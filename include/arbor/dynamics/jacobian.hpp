@@ -70,13 +70,13 @@ void frame_jacobian(const Data<R, S>& d, int frame, ReferenceFrame rf,
     }
     const Motion<S> c = Motion<S>::from(d.J.col(j));
     switch (rf) {
-      case ReferenceFrame::World:
+      case ReferenceFrame::world:
         J.col(j) = c.vector();
         break;
-      case ReferenceFrame::Local:
+      case ReferenceFrame::local:
         J.col(j) = oMf.actInv(c).vector();
         break;
-      case ReferenceFrame::LocalWorldAligned:
+      case ReferenceFrame::local_world_aligned:
         J.col(j).template head<3>() = c.v - oMf.p.cross(c.w);
         J.col(j).template tail<3>() = c.w;
         break;

@@ -158,11 +158,11 @@ Motion<S> frame_velocity(const Data<R, S>& d, int frame, ReferenceFrame rf) {
   const SE3<S> iMf = frame_in_body<R, S>(frame);
   const Motion<S> local = iMf.actInv(d.v[b]);
   switch (rf) {
-    case ReferenceFrame::Local:
+    case ReferenceFrame::local:
       return local;
-    case ReferenceFrame::World:
+    case ReferenceFrame::world:
       return d.oMi[b].act(d.v[b]);
-    case ReferenceFrame::LocalWorldAligned:
+    case ReferenceFrame::local_world_aligned:
     default:
       return {d.oMf[frame].R * local.v, d.oMf[frame].R * local.w};
   }

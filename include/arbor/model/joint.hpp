@@ -7,24 +7,24 @@ namespace arbor::model {
 
 /// Kind of the joint that connects a body to its parent. Every kind has one degree of freedom.
 /// Aligned kinds move about/along a coordinate axis of the joint frame, with the sign stored in
-/// the robot's `joint_axis` (e.g. RevoluteX with axis (-1, 0, 0) turns about -X). Unaligned kinds
+/// the robot's `joint_axis` (e.g. revolute_x with axis (-1, 0, 0) turns about -X). Unaligned kinds
 /// use the general unit axis stored in `joint_axis`. Continuous joints are revolute joints with
 /// infinite position limits (one angle per DoF, never cos/sin pairs).
 enum class JointKind : std::uint8_t {
-  RevoluteX,
-  RevoluteY,
-  RevoluteZ,
-  RevoluteUnaligned,
-  PrismaticX,
-  PrismaticY,
-  PrismaticZ,
-  PrismaticUnaligned,
+  revolute_x,
+  revolute_y,
+  revolute_z,
+  revolute_unaligned,
+  prismatic_x,
+  prismatic_y,
+  prismatic_z,
+  prismatic_unaligned,
 };
 
 /// True for the four revolute kinds.
 constexpr bool is_revolute(JointKind k) {
-  return k == JointKind::RevoluteX || k == JointKind::RevoluteY || k == JointKind::RevoluteZ ||
-         k == JointKind::RevoluteUnaligned;
+  return k == JointKind::revolute_x || k == JointKind::revolute_y || k == JointKind::revolute_z ||
+         k == JointKind::revolute_unaligned;
 }
 
 /// True for the four prismatic kinds.
@@ -34,20 +34,20 @@ constexpr bool is_prismatic(JointKind k) {
 
 /// True when the axis is a signed coordinate axis of the joint frame.
 constexpr bool is_aligned(JointKind k) {
-  return k != JointKind::RevoluteUnaligned && k != JointKind::PrismaticUnaligned;
+  return k != JointKind::revolute_unaligned && k != JointKind::prismatic_unaligned;
 }
 
 /// Index (0, 1, 2) of the coordinate axis of an aligned kind; -1 for unaligned kinds.
 constexpr int axis_index(JointKind k) {
   switch (k) {
-    case JointKind::RevoluteX:
-    case JointKind::PrismaticX:
+    case JointKind::revolute_x:
+    case JointKind::prismatic_x:
       return 0;
-    case JointKind::RevoluteY:
-    case JointKind::PrismaticY:
+    case JointKind::revolute_y:
+    case JointKind::prismatic_y:
       return 1;
-    case JointKind::RevoluteZ:
-    case JointKind::PrismaticZ:
+    case JointKind::revolute_z:
+    case JointKind::prismatic_z:
       return 2;
     default:
       return -1;
@@ -57,21 +57,21 @@ constexpr int axis_index(JointKind k) {
 /// Short human-readable name of a joint kind ("RZ", "PX", "R*" for unaligned revolute...).
 constexpr const char* short_name(JointKind k) {
   switch (k) {
-    case JointKind::RevoluteX:
+    case JointKind::revolute_x:
       return "RX";
-    case JointKind::RevoluteY:
+    case JointKind::revolute_y:
       return "RY";
-    case JointKind::RevoluteZ:
+    case JointKind::revolute_z:
       return "RZ";
-    case JointKind::RevoluteUnaligned:
+    case JointKind::revolute_unaligned:
       return "R*";
-    case JointKind::PrismaticX:
+    case JointKind::prismatic_x:
       return "PX";
-    case JointKind::PrismaticY:
+    case JointKind::prismatic_y:
       return "PY";
-    case JointKind::PrismaticZ:
+    case JointKind::prismatic_z:
       return "PZ";
-    case JointKind::PrismaticUnaligned:
+    case JointKind::prismatic_unaligned:
       return "P*";
   }
   return "?";

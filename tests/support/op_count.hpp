@@ -1,4 +1,8 @@
-// arbor: an operation-counting scalar.
+// arbor (measurement instrument, not part of the library): an operation-counting scalar.
+//
+// It lives in tests/support, outside include/arbor, because it keeps one global tally and one
+// global tape pointer (mutable static state, which the library itself never has). Tests and
+// benchmarks include it as "op_count.hpp".
 //
 // Counted carries a double value and knows whether it is a known constant. Arithmetic folds the
 // way a symbolic tool (CasADi's SX) would, and counts every other operation by kind, so that
@@ -48,7 +52,7 @@ struct OpTally {
 };
 
 /// Kind of a recorded operation.
-enum class OpKind : std::uint8_t { Input, Add, Mul, Div, Neg, Sqrt, Sin, Cos };
+enum class OpKind : std::uint8_t { input, add, mul, div, neg, sqrt, sin, cos };
 
 /// Optional record of the operations, to count only the live ones: those an output depends on
 /// (what a symbolic tool keeps after dead-code elimination; CasADi's counts are of this kind).
@@ -133,27 +137,27 @@ class OpTape : private detail::OpTapeBase {
       mark(e.a);
       mark(e.b);
       switch (e.kind) {
-        case OpKind::Input:
+        case OpKind::input:
           break;
-        case OpKind::Add:
+        case OpKind::add:
           ++t.add;
           break;
-        case OpKind::Mul:
+        case OpKind::mul:
           ++t.mul;
           break;
-        case OpKind::Div:
+        case OpKind::div:
           ++t.div;
           break;
-        case OpKind::Neg:
+        case OpKind::neg:
           ++t.neg;
           break;
-        case OpKind::Sqrt:
+        case OpKind::sqrt:
           ++t.sqrt;
           break;
-        case OpKind::Sin:
+        case OpKind::sin:
           ++t.sin;
           break;
-        case OpKind::Cos:
+        case OpKind::cos:
           ++t.cos;
           break;
       }
@@ -182,7 +186,7 @@ class Counted {
   /// A known constant.
   constexpr Counted(double x) : v_(x), id_(0) {}  // NOLINT(google-explicit-constructor)
   /// A symbolic input with value x (a new node).
-  static Counted input(double x) { return op(x, OpKind::Input, nullptr, 0, 0); }
+  static Counted input(double x) { return op(x, OpKind::input, nullptr, 0, 0); }
 
   /// The numeric value.
   constexpr double value() const { return v_; }
@@ -195,7 +199,7 @@ class Counted {
   friend Counted operator-(const Counted& a) {
     if (a.is_constant())
       return Counted(-a.v_);
-    return op(-a.v_, OpKind::Neg, &op_tally().neg, a.id_, 0);
+    return op(-a.v_, OpKind::neg, &op_tally().neg, a.id_, 0);
   }
   friend Counted operator+(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -204,7 +208,7 @@ class Counted {
       return b;
     if (b.is_zero())
       return a;
-    return op(a.v_ + b.v_, OpKind::Add, &op_tally().add, a.id_, b.id_);
+    return op(a.v_ + b.v_, OpKind::add, &op_tally().add, a.id_, b.id_);
   }
   friend Counted operator-(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -215,7 +219,7 @@ class Counted {
       return -b;
     if (a.id_ == b.id_)
       return Counted(0.0);
-    return op(a.v_ - b.v_, OpKind::Add, &op_tally().add, a.id_, b.id_);
+    return op(a.v_ - b.v_, OpKind::add, &op_tally().add, a.id_, b.id_);
   }
   friend Counted operator*(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -230,7 +234,7 @@ class Counted {
       return -b;
     if (b.is_minus_one())
       return -a;
-    return op(a.v_ * b.v_, OpKind::Mul, &op_tally().mul, a.id_, b.id_);
+    return op(a.v_ * b.v_, OpKind::mul, &op_tally().mul, a.id_, b.id_);
   }
   friend Counted operator/(const Counted& a, const Counted& b) {
     if (a.is_constant() && b.is_constant())
@@ -243,7 +247,7 @@ class Counted {
       return -a;
     if (a.id_ == b.id_)
       return Counted(1.0);
-    return op(a.v_ / b.v_, OpKind::Div, &op_tally().div, a.id_, b.id_);
+    return op(a.v_ / b.v_, OpKind::div, &op_tally().div, a.id_, b.id_);
   }
   Counted& operator+=(const Counted& b) { return *this = *this + b; }
   Counted& operator-=(const Counted& b) { return *this = *this - b; }
@@ -259,17 +263,17 @@ class Counted {
   friend Counted sqrt(const Counted& a) {
     if (a.is_constant())
       return Counted(std::sqrt(a.v_));
-    return op(std::sqrt(a.v_), OpKind::Sqrt, &op_tally().sqrt, a.id_, 0);
+    return op(std::sqrt(a.v_), OpKind::sqrt, &op_tally().sqrt, a.id_, 0);
   }
   friend Counted sin(const Counted& a) {
     if (a.is_constant())
       return Counted(std::sin(a.v_));
-    return op(std::sin(a.v_), OpKind::Sin, &op_tally().sin, a.id_, 0);
+    return op(std::sin(a.v_), OpKind::sin, &op_tally().sin, a.id_, 0);
   }
   friend Counted cos(const Counted& a) {
     if (a.is_constant())
       return Counted(std::cos(a.v_));
-    return op(std::cos(a.v_), OpKind::Cos, &op_tally().cos, a.id_, 0);
+    return op(std::cos(a.v_), OpKind::cos, &op_tally().cos, a.id_, 0);
   }
   friend Counted abs(const Counted& a) { return a.v_ < 0 ? -a : a; }
 
