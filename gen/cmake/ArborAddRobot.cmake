@@ -1,6 +1,7 @@
 # arbor_add_robot(<target> URDF <file>
 #                 [NAME <StructName>] [NAMESPACE <ns>] [HEADER <file.hpp>]
-#                 [ROOT <link>] [TIP <link>...] [LOCK <joint>=<value>...])
+#                 [ROOT <link>] [TIP <link>...] [LOCK <joint>=<value>...]
+#                 [LOCK_MIMIC] [SNAP <tol>] [FIX_INERTIA | STRICT_INERTIA])
 #
 # Runs arbor-gen at build time (again whenever the URDF or the generator changes) and creates an
 # INTERFACE library <target> that carries the generated header. Link it and include it as
@@ -11,7 +12,8 @@
 include_guard(GLOBAL)
 
 function(arbor_add_robot target)
-  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "URDF;NAME;NAMESPACE;HEADER;ROOT" "TIP;LOCK")
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "LOCK_MIMIC;FIX_INERTIA;STRICT_INERTIA"
+                        "URDF;NAME;NAMESPACE;HEADER;ROOT;SNAP" "TIP;LOCK")
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "arbor_add_robot(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
   endif()
@@ -53,6 +55,18 @@ function(arbor_add_robot target)
   foreach(lock IN LISTS ARG_LOCK)
     list(APPEND args --lock "${lock}")
   endforeach()
+  if(ARG_LOCK_MIMIC)
+    list(APPEND args --lock-mimic)
+  endif()
+  if(ARG_SNAP)
+    list(APPEND args --snap "${ARG_SNAP}")
+  endif()
+  if(ARG_FIX_INERTIA)
+    list(APPEND args --fix-inertia)
+  endif()
+  if(ARG_STRICT_INERTIA)
+    list(APPEND args --strict-inertia)
+  endif()
 
   set(dir "${CMAKE_CURRENT_BINARY_DIR}/${target}_gen")
   set(out "${dir}/robots/${ARG_HEADER}")

@@ -71,6 +71,147 @@ MassProps combine(const MassProps& a, const MassProps& b) {
   return r;
 }
 
+/// Eigen-decomposition of a symmetric 3x3 matrix (cyclic Jacobi): A = V diag(values) V^T,
+/// values ascending, eigenvectors in the columns of V. A diagonal A gives V = identity exactly.
+struct SymEigen {
+  Vec3 values;
+  Mat3 V;
+};
+SymEigen eigen_sym(Mat3 A) {
+  Mat3 V{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  for (int sweep = 0; sweep < 64; ++sweep) {
+    const double off = std::abs(A[0][1]) + std::abs(A[0][2]) + std::abs(A[1][2]);
+    if (off == 0)
+      break;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (A[p][q] == 0)
+          continue;
+        const double theta = (A[q][q] - A[p][p]) / (2 * A[p][q]);
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1));
+        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+        for (int k = 0; k < 3; ++k) {  // A <- A J
+          const double akp = A[k][p], akq = A[k][q];
+          A[k][p] = c * akp - s * akq;
+          A[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // A <- J^T A
+          const double apk = A[p][k], aqk = A[q][k];
+          A[p][k] = c * apk - s * aqk;
+          A[q][k] = s * apk + c * aqk;
+        }
+        A[p][q] = A[q][p] = 0;
+        for (int k = 0; k < 3; ++k) {  // V <- V J
+          const double vkp = V[k][p], vkq = V[k][q];
+          V[k][p] = c * vkp - s * vkq;
+          V[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  std::array<int, 3> order{0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return A[a][a] < A[b][b]; });
+  SymEigen e;
+  for (int j = 0; j < 3; ++j) {
+    e.values[j] = A[order[j]][order[j]];
+    for (int i = 0; i < 3; ++i)
+      e.V[i][j] = V[i][order[j]];
+  }
+  return e;
+}
+/// V diag(values) V^T, exactly symmetric.
+Mat3 from_eigen(const Mat3& V, const Vec3& values) {
+  Mat3 A{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      for (int k = 0; k < 3; ++k)
+        A[i][j] += V[i][k] * values[k] * V[j][k];
+      A[j][i] = A[i][j];
+    }
+  return A;
+}
+
+/// The nearest point (Euclidean) to `l` in the cone of physically consistent principal moments
+/// {l_a + l_b >= l_c for every permutation} (which implies l >= 0). With the eigenvectors kept,
+/// this gives the nearest consistent inertia in the Frobenius norm (the set is spectral and
+/// convex). The cone is polyhedral: the projection is the feasible one of the projections onto
+/// the spans of its faces that is closest to `l`.
+Vec3 project_consistent(const Vec3& l) {
+  const std::array<Vec3, 3> n{{{-1, 1, 1}, {1, -1, 1}, {1, 1, -1}}};  // n_k . l >= 0
+  auto dot = [](const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const double scale = std::abs(l[0]) + std::abs(l[1]) + std::abs(l[2]);
+  Vec3 best{0, 0, 0};  // all three faces active: the apex
+  double best_d = dot(l, l);
+  for (int mask = 0; mask < 7; ++mask) {
+    std::vector<int> S;
+    for (int k = 0; k < 3; ++k)
+      if (mask & (1 << k))
+        S.push_back(k);
+    Vec3 x = l;
+    if (S.size() == 1) {
+      const double a = dot(n[S[0]], l) / 3;
+      for (int i = 0; i < 3; ++i)
+        x[i] -= a * n[S[0]][i];
+    } else if (S.size() == 2) {
+      // Gram matrix [[3, -1], [-1, 3]]; its inverse is [[3, 1], [1, 3]] / 8.
+      const double r0 = dot(n[S[0]], l), r1 = dot(n[S[1]], l);
+      const double y0 = (3 * r0 + r1) / 8, y1 = (r0 + 3 * r1) / 8;
+      for (int i = 0; i < 3; ++i)
+        x[i] -= y0 * n[S[0]][i] + y1 * n[S[1]][i];
+    }
+    bool feasible = true;
+    for (int k = 0; k < 3; ++k)
+      feasible = feasible && dot(n[k], x) >= -1e-14 * scale;
+    const Vec3 d{x[0] - l[0], x[1] - l[1], x[2] - l[2]};
+    if (feasible && dot(d, d) < best_d) {
+      best = x;
+      best_d = dot(d, d);
+    }
+  }
+  for (double& v : best)
+    v = std::max(v, 0.0);
+  return best;
+}
+
+/// Nearest signed permutation matrix (axis-aligned rotation) to R; false if R is not near one.
+bool nearest_aligned(const Mat3& R, Mat3& P) {
+  P = Mat3{};
+  std::array<bool, 3> used{};
+  for (int i = 0; i < 3; ++i) {
+    int c = 0;
+    for (int j = 1; j < 3; ++j)
+      if (std::abs(R[i][j]) > std::abs(R[i][c]))
+        c = j;
+    if (used[c])
+      return false;
+    used[c] = true;
+    P[i][c] = R[i][c] > 0 ? 1.0 : -1.0;
+  }
+  const double det = P[0][0] * (P[1][1] * P[2][2] - P[1][2] * P[2][1]) -
+                     P[0][1] * (P[1][0] * P[2][2] - P[1][2] * P[2][0]) +
+                     P[0][2] * (P[1][0] * P[2][1] - P[1][1] * P[2][0]);
+  return det > 0;
+}
+/// Rotation angle between two rotations from their Frobenius distance (accurate when small).
+double rotation_distance(const Mat3& A, const Mat3& B) {
+  double f = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      f += (A[i][j] - B[i][j]) * (A[i][j] - B[i][j]);
+  return 2 * std::asin(std::min(1.0, std::sqrt(f) / (2 * std::sqrt(2.0))));
+}
+
+/// Deviations below this [rad] are already exact in the header (entries within 1e-14 of 0/+-1).
+constexpr double kAlignedRoundOff = 1e-13;
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s.precision(4);
+  s << x;
+  return s.str();
+}
+
 bool finite3(const Vec3& v) {
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
@@ -152,6 +293,8 @@ class Builder {
       if (!locks_.emplace(joint, value).second)
         throw GenError("--lock " + joint + ": given more than once");
     }
+    if (opt.lock_mimic)
+      lock_mimic_groups();
   }
 
   RobotDesc run() {
@@ -178,6 +321,67 @@ class Builder {
   }
 
  private:
+  /// The joint a mimic joint follows, checked to exist.
+  urdf::JointConstSharedPtr mimic_master(const urdf::Joint& j) const {
+    auto m = model_.getJoint(j.mimic->joint_name);
+    if (!m)
+      throw GenError(std::string(type_name(j.type)) + " joint " + quote(j.name) + " mimics joint " +
+                     quote(j.mimic->joint_name) + ", which does not exist");
+    return m;
+  }
+  /// The first joint of a mimic chain (j mimics k mimics ... master), or a cycle error.
+  urdf::JointConstSharedPtr group_master(const urdf::JointConstSharedPtr& j) const {
+    urdf::JointConstSharedPtr m = j;
+    std::set<std::string> seen;
+    while (m->mimic) {
+      if (!seen.insert(m->name).second)
+        throw GenError("joint " + quote(j->name) + ": its mimic joints form a cycle through " +
+                       quote(m->name));
+      m = mimic_master(*m);
+    }
+    return m;
+  }
+
+  /// --lock-mimic: every master of a mimic group not locked by --lock is locked at 0 when 0 is
+  /// within its limits (or it has none), else at the middle of its range.
+  void lock_mimic_groups() {
+    std::map<std::string, std::vector<std::string>> groups;  // master -> mimic joints
+    for (const auto& [name, joint] : model_.joints_) {
+      if (joint->mimic)
+        groups[group_master(joint)->name].push_back(name);
+    }
+    for (const auto& [master, members] : groups) {
+      std::string list;
+      for (const auto& m : members)
+        list += (list.empty() ? "" : ", ") + m;
+      const urdf::Joint& j = *model_.getJoint(master);
+      if (j.type == urdf::Joint::FIXED) {
+        out_.notes.push_back("--lock-mimic: " + list + " follow fixed joint " + master +
+                             " (at 0): locked");
+        continue;
+      }
+      auto given = locks_.find(master);
+      if (given != locks_.end()) {
+        out_.notes.push_back("--lock-mimic: " + master + " locked at " + fmt(given->second) +
+                             " by --lock, with its mimic joints " + list);
+        continue;
+      }
+      double value = 0;
+      std::string why = "its zero";
+      if (j.type != urdf::Joint::CONTINUOUS && j.limits &&
+          !(j.limits->lower == 0 && j.limits->upper == 0) &&
+          (j.limits->lower > 0 || j.limits->upper < 0)) {
+        value = 0.5 * (j.limits->lower + j.limits->upper);
+        why =
+            "the middle of its range [" + fmt(j.limits->lower) + ", " + fmt(j.limits->upper) + "]";
+      }
+      locks_.emplace(master, value);
+      used_locks_.insert(master);  // a master outside the selection is no user error
+      out_.notes.push_back("--lock-mimic: locked " + master + " at " + fmt(value) + " (" + why +
+                           ") with its mimic joints " + list);
+    }
+  }
+
   /// Every link must hang below the root: a link that does not is on a cycle.
   void check_tree() {
     std::vector<urdf::LinkSharedPtr> links;
@@ -250,16 +454,11 @@ class Builder {
       s << what << ": negative mass " << in.mass << " kg";
       throw GenError(s.str());
     }
-    const Mat3 I{{{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}}};
+    Mat3 I{{{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}}};
     for (const auto& row : I)
       if (!finite3(row))
         throw GenError(what + ": inertia is not finite");
-    // Positive semi-definite with the triangle inequality (physical rotational inertia).
-    const double tol = 1e-9 * (std::abs(in.ixx) + std::abs(in.iyy) + std::abs(in.izz)) + 1e-300;
-    if (in.ixx < -tol || in.iyy < -tol || in.izz < -tol || in.ixx + in.iyy < in.izz - tol ||
-        in.ixx + in.izz < in.iyy - tol || in.iyy + in.izz < in.ixx - tol) {
-      throw GenError(what + ": inertia is not physical (negative moment or triangle inequality)");
-    }
+    I = checked_inertia(what, I);
     const Transform T = compose(X, to_transform(in.origin, what + " <inertial>"));
     MassProps part;
     part.mass = in.mass;
@@ -267,6 +466,82 @@ class Builder {
     part.I = mul(mul(T.R, I), transpose(T.R));
     MassProps& target = body < 0 ? out_.base : out_.bodies[body].inertia;
     target = combine(target, part);
+  }
+
+  /// The inertia policy (README, "The generator"): a clearly negative principal moment is an
+  /// error; a round-off negative one is clamped to zero, and a violated triangle inequality is
+  /// kept, each with a warning (errors with --strict-inertia; --fix-inertia projects onto the
+  /// nearest consistent inertia).
+  Mat3 checked_inertia(const std::string& what, Mat3 I) {
+    const double trace = std::abs(I[0][0]) + std::abs(I[1][1]) + std::abs(I[2][2]);
+    const double tol = kRelInertiaTol * trace + kAbsInertiaTol;
+    SymEigen e = eigen_sym(I);
+    const Vec3 l = e.values;
+    if (l[0] < -tol) {
+      throw GenError(what + ": inertia has a negative principal moment " + fmt(l[0]) +
+                     " kg m^2 (trace " + fmt(trace) + "): not a rotational inertia");
+    }
+    // A negative diagonal entry is in the data as written (e.g. -5e-20, an exporter's zero); a
+    // negative eigenvalue of the order of the solver's round-off alone is not reported.
+    const bool negative = I[0][0] < 0 || I[1][1] < 0 || I[2][2] < 0 || l[0] < -1e-14 * trace;
+    if (negative) {
+      const std::string msg = what + ": inertia has a round-off negative principal moment " +
+                              fmt(l[0]) + " kg m^2 (exporter's zero?)";
+      if (opt_.strict_inertia)
+        throw GenError(msg + " [--strict-inertia]");
+      for (double& v : e.values)
+        v = std::max(v, 0.0);
+      I = from_eigen(e.V, e.values);
+      out_.warnings.push_back(msg + ": clamped to zero");
+    }
+    for (double& v : e.values)  // the eigen solver's round-off
+      if (std::abs(v) <= 1e-14 * trace)
+        v = 0;
+    const Vec3& c = e.values;
+    if (c[2] > c[0] + c[1] + tol) {
+      const std::string msg = what + ": inertia violates the triangle inequality (principal " +
+                              "moments " + fmt(c[0]) + ", " + fmt(c[1]) + ", " + fmt(c[2]) +
+                              " kg m^2): physically inconsistent";
+      if (opt_.strict_inertia)
+        throw GenError(msg + " [--strict-inertia]");
+      if (opt_.fix_inertia) {
+        const Vec3 f = project_consistent(c);
+        const Mat3 F = from_eigen(e.V, f);
+        double change = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            change += (F[i][j] - I[i][j]) * (F[i][j] - I[i][j]);
+        change = std::sqrt(change);
+        out_.warnings.push_back(msg + "; --fix-inertia: replaced by the nearest consistent " +
+                                "inertia, principal moments " + fmt(f[0]) + ", " + fmt(f[1]) +
+                                ", " + fmt(f[2]) + " kg m^2 (change " + fmt(change) +
+                                " kg m^2, Frobenius)");
+        I = F;
+      } else {
+        out_.warnings.push_back(msg + "; kept as given (--fix-inertia repairs it, " +
+                                "--strict-inertia rejects it)");
+      }
+    }
+    return I;
+  }
+
+  /// A joint's <origin>, with --snap applied to its rotation; records its misalignment.
+  Transform joint_origin(const urdf::Joint& j, const std::string& what) {
+    Transform t = to_transform(j.parent_to_joint_origin_transform, what);
+    Mat3 P;
+    if (!nearest_aligned(t.R, P))
+      return t;
+    const double angle = rotation_distance(t.R, P);
+    if (angle < kAlignedRoundOff)
+      return t;
+    if (opt_.snap > 0 && angle <= opt_.snap) {
+      t.R = P;
+      ++out_.snapped;
+      out_.snap_max_angle = std::max(out_.snap_max_angle, angle);
+    } else {
+      out_.misalignment.push_back(angle);
+    }
+    return t;
   }
 
   static Transform joint_motion(const urdf::Joint& j, const Vec3& axis, double q) {
@@ -279,27 +554,38 @@ class Builder {
     return m;
   }
 
-  /// The position a joint is locked at, if it is (directly, or as a mimic of a locked joint).
-  bool locked_value(const urdf::Joint& j, double& value) {
+  /// The position a joint is locked at, if it is: directly, or as a mimic of a locked joint (or
+  /// of a fixed one, at 0), following chains of mimic joints.
+  bool locked_value(const urdf::Joint& j, double& value, int depth = 0) {
     auto it = locks_.find(j.name);
     if (it != locks_.end()) {
       used_locks_.insert(j.name);
       value = it->second;
       return true;
     }
+    if (j.type == urdf::Joint::FIXED && depth > 0) {
+      value = 0;
+      return true;
+    }
     if (j.mimic) {
-      auto m = locks_.find(j.mimic->joint_name);
-      if (m != locks_.end()) {
-        value = j.mimic->multiplier * m->second + j.mimic->offset;
-        out_.notes.push_back("joint " + j.name + " mimics locked joint " + m->first +
-                             ": locked at " + std::to_string(value));
+      if (depth > int(model_.joints_.size()))
+        throw GenError("joint " + quote(j.name) + ": its mimic joints form a cycle");
+      auto m = mimic_master(j);
+      double master_value = 0;
+      if (locked_value(*m, master_value, depth + 1)) {
+        value = j.mimic->multiplier * master_value + j.mimic->offset;
+        if (depth == 0)
+          out_.notes.push_back("joint " + j.name + " mimics locked joint " + m->name +
+                               ": locked at " + std::to_string(value));
         return true;
       }
     }
     return false;
   }
 
-  Vec3 movable_axis(const urdf::Joint& j) const {
+  /// The unit axis of a movable joint, with --snap applied; records its misalignment. Only
+  /// called once per joint (locked joints included).
+  Vec3 movable_axis(const urdf::Joint& j) {
     const Vec3 a{j.axis.x, j.axis.y, j.axis.z};
     const std::string what = std::string(type_name(j.type)) + " joint " + quote(j.name);
     if (!finite3(a))
@@ -307,7 +593,25 @@ class Builder {
     const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     if (!(n > 1e-12))
       throw GenError(what + ": axis is the zero vector");
-    return Vec3{a[0] / n, a[1] / n, a[2] / n};
+    Vec3 u{a[0] / n, a[1] / n, a[2] / n};
+    int k = 0;
+    for (int i = 1; i < 3; ++i)
+      if (std::abs(u[i]) > std::abs(u[k]))
+        k = i;
+    const double side = std::hypot(u[(k + 1) % 3], u[(k + 2) % 3]);
+    const double angle = std::atan2(side, std::abs(u[k]));
+    if (angle < kAlignedRoundOff)
+      return u;
+    if (opt_.snap > 0 && angle <= opt_.snap) {
+      const double sign = u[k] > 0 ? 1.0 : -1.0;
+      u = Vec3{0, 0, 0};
+      u[k] = sign;
+      ++out_.snapped;
+      out_.snap_max_angle = std::max(out_.snap_max_angle, angle);
+    } else {
+      out_.misalignment.push_back(angle);
+    }
+    return u;
   }
 
   void visit(const urdf::LinkConstSharedPtr& link, int body, const Transform& X) {
@@ -320,7 +624,7 @@ class Builder {
         continue;
       }
       const std::string what = std::string(type_name(j->type)) + " joint " + quote(j->name);
-      const Transform origin = compose(X, to_transform(j->parent_to_joint_origin_transform, what));
+      const Transform origin = compose(X, joint_origin(*j, what));
       double value = 0;
       const bool locked = locked_value(*j, value);
       switch (j->type) {
@@ -338,7 +642,8 @@ class Builder {
             visit(child, body, compose(origin, joint_motion(*j, axis, value)));
           } else if (j->mimic) {
             throw GenError(what + " mimics joint " + quote(j->mimic->joint_name) +
-                           ": mimic joints are not supported. Lock the pair with --lock " +
+                           ": mimic joints are not supported. Lock every mimic group with "
+                           "--lock-mimic, this pair with --lock " +
                            j->mimic->joint_name + "=VALUE, or leave the branch out with --tip");
           } else {
             add_body(*j, child->name, body, origin, axis);
@@ -436,18 +741,43 @@ class Builder {
     out_.bodies.push_back(b);
   }
 
+  /// Every DoF must move mass, and a revolute one must move inertia about its axis (at q = 0):
+  /// otherwise its row of the joint-space inertia matrix is zero.
   void check_subtree_masses() const {
-    std::vector<double> m(out_.bodies.size(), 0.0);
-    for (int i = int(m.size()) - 1; i >= 0; --i) {
-      m[i] += out_.bodies[i].inertia.mass;
-      if (!(m[i] > 0)) {
-        throw GenError("joint " + quote(out_.bodies[i].joint) +
+    std::vector<MassProps> sub(out_.bodies.size());  // composite of each subtree, body frame
+    for (int i = int(sub.size()) - 1; i >= 0; --i) {
+      const Body& b = out_.bodies[i];
+      sub[i] = combine(sub[i], b.inertia);
+      if (!(sub[i].mass > 0)) {
+        throw GenError("joint " + quote(b.joint) +
                        " moves no mass (every link below it is massless): its mass matrix "
                        "row would be singular. Lock it with --lock " +
-                       out_.bodies[i].joint + "=VALUE or drop it with --tip");
+                       b.joint + "=VALUE or drop it with --tip");
       }
-      if (out_.bodies[i].parent >= 0)
-        m[out_.bodies[i].parent] += m[i];
+      if (b.kind == Kind::RX || b.kind == Kind::RY || b.kind == Kind::RZ || b.kind == Kind::RU) {
+        const Vec3& u = b.axis;
+        const Vec3& c = sub[i].com;
+        const double uc = u[0] * c[0] + u[1] * c[1] + u[2] * c[2];
+        double axial = sub[i].mass * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2] - uc * uc);
+        for (int r = 0; r < 3; ++r)
+          for (int k = 0; k < 3; ++k)
+            axial += u[r] * sub[i].I[r][k] * u[k];
+        if (!(axial > kAbsInertiaTol)) {
+          throw GenError("joint " + quote(b.joint) + " moves no inertia about its axis at q = 0 " +
+                         "(the mass below it lies on the axis): its mass matrix row would be " +
+                         "singular. Lock it with --lock " + b.joint +
+                         "=VALUE or drop it with --tip");
+        }
+      }
+      if (b.parent >= 0) {
+        MassProps moved;
+        moved.mass = sub[i].mass;
+        const Vec3 rc = mul(b.placement.R, sub[i].com);
+        for (int k = 0; k < 3; ++k)
+          moved.com[k] = rc[k] + b.placement.p[k];
+        moved.I = mul(mul(b.placement.R, sub[i].I), transpose(b.placement.R));
+        sub[b.parent] = combine(sub[b.parent], moved);
+      }
     }
   }
 
@@ -459,6 +789,33 @@ class Builder {
   std::set<std::string> selected_;
   RobotDesc out_;
 };
+
+/// World placements at q = 0 of every frame of a built robot.
+std::vector<Transform> world_frames(const RobotDesc& r) {
+  std::vector<Transform> body(r.bodies.size());
+  for (std::size_t i = 0; i < r.bodies.size(); ++i) {
+    const int p = r.bodies[i].parent;
+    body[i] = p < 0 ? r.bodies[i].placement : compose(body[std::size_t(p)], r.bodies[i].placement);
+  }
+  std::vector<Transform> out;
+  for (const auto& f : r.frames)
+    out.push_back(f.body < 0 ? f.placement : compose(body[std::size_t(f.body)], f.placement));
+  return out;
+}
+
+void compare_frames(RobotDesc& snapped, const RobotDesc& plain) {
+  const auto a = world_frames(snapped), b = world_frames(plain);
+  if (a.size() != b.size())
+    return;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k)
+      d2 += (a[i].p[k] - b[i].p[k]) * (a[i].p[k] - b[i].p[k]);
+    snapped.snap_max_position = std::max(snapped.snap_max_position, std::sqrt(d2));
+    snapped.snap_max_rotation =
+        std::max(snapped.snap_max_rotation, rotation_distance(a[i].R, b[i].R));
+  }
+}
 
 /// urdfdom links own their children through shared_ptr; on a cyclic input that is a reference
 /// cycle that never frees. Clearing the child lists when we are done releases every link.
@@ -517,7 +874,15 @@ RobotDesc build_robot(const std::string& text, const Options& opt, const std::st
         msg += "\n  " + e;
       throw GenError(msg);
     }
-    return Builder(*model, opt, std::move(doc_order)).run();
+    RobotDesc desc = Builder(*model, opt, doc_order).run();
+    if (desc.snapped > 0) {
+      // What --snap changed: every frame's world placement at q = 0, against the model without.
+      Options plain = opt;
+      plain.snap = 0;
+      const RobotDesc ref = Builder(*model, plain, doc_order).run();
+      compare_frames(desc, ref);
+    }
+    return desc;
   } catch (const GenError& e) {
     throw GenError(source + ": " + e.what());
   } catch (const std::exception& e) {

@@ -260,6 +260,17 @@ std::string emit_header(const RobotDesc& robot, const Options& opt, const Proven
     o << "// Option: --tip " << t << "\n";
   for (const auto& [j, v] : opt.locks)
     o << "// Option: --lock " << j << "=" << num(v) << "\n";
+  if (opt.lock_mimic)
+    o << "// Option: --lock-mimic\n";
+  if (opt.strict_inertia)
+    o << "// Option: --strict-inertia\n";
+  if (opt.fix_inertia)
+    o << "// Option: --fix-inertia\n";
+  if (opt.snap > 0)
+    o << "// Option: --snap " << num(opt.snap) << " (" << robot.snapped
+      << " rotations and axes made exact)\n";
+  if (!robot.warnings.empty())
+    o << "// Accepted with " << robot.warnings.size() << " warning(s): see arbor-gen --summary.\n";
   o << "// Placement entries within 1e-14 of 0 or +-1, and products of inertia below 1e-12 of\n"
     << "// the trace, are written exactly (round-off of the rpy conversion and of the exporter).\n"
     << "#pragma once\n\n"

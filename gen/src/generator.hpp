@@ -27,7 +27,19 @@ struct Options {
   std::string root;                  ///< root link; the URDF root if empty
   std::vector<std::string> tips;     ///< keep only chains root -> these links
   std::vector<std::pair<std::string, double>> locks;  ///< joints made fixed at these positions
+  bool lock_mimic = false;      ///< lock every mimic group at its master's default position
+  bool strict_inertia = false;  ///< inconsistent or round-off inertias are errors
+  bool fix_inertia = false;     ///< inconsistent inertias replaced by the nearest consistent one
+  double snap = 0;              ///< rotations/axes within this angle [rad] of aligned made exact
+  bool summary = false;         ///< print a summary instead of (or besides) writing a header
 };
+
+/// Relative tolerance (to the trace) below which a negative principal moment is round-off, and
+/// slack of the triangle inequality; kAbsInertiaTol [kg m^2] is the floor for tiny inertias.
+inline constexpr double kRelInertiaTol = 1e-6;
+inline constexpr double kAbsInertiaTol = 1e-12;
+/// Tolerances at which the summary counts how many placements `--snap` would make exact.
+inline constexpr std::array<double, 6> kSnapLadder = {1e-9, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3};
 
 using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<Vec3, 3>;
@@ -69,12 +81,20 @@ struct FrameDesc {
 
 /// The tree extracted from a URDF, in depth-first URDF document order (parent < child).
 struct RobotDesc {
-  std::string urdf_name;           ///< <robot name=...>
-  std::string root_link;           ///< the fixed base link
-  std::vector<Body> bodies;        ///< movable bodies
-  MassProps base;                  ///< inertia lumped into the fixed base
-  std::vector<FrameDesc> frames;   ///< every link kept, in depth-first order
-  std::vector<std::string> notes;  ///< non-fatal remarks (dropped links, locked joints...)
+  std::string urdf_name;              ///< <robot name=...>
+  std::string root_link;              ///< the fixed base link
+  std::vector<Body> bodies;           ///< movable bodies
+  MassProps base;                     ///< inertia lumped into the fixed base
+  std::vector<FrameDesc> frames;      ///< every link kept, in depth-first order
+  std::vector<std::string> notes;     ///< non-fatal remarks (dropped links, locked joints...)
+  std::vector<std::string> warnings;  ///< accepted defects of the input (one per link and defect)
+  /// Angle [rad] from each joint origin rotation or joint axis of the URDF to the nearest
+  /// axis-aligned one, for those not already aligned to round-off (1e-14); after --snap.
+  std::vector<double> misalignment;
+  int snapped = 0;               ///< rotations and axes made exact by --snap
+  double snap_max_angle = 0;     ///< largest change of those [rad]
+  double snap_max_position = 0;  ///< largest change of a frame's position at q = 0 [m]
+  double snap_max_rotation = 0;  ///< largest change of a frame's orientation at q = 0 [rad]
 };
 
 /// Parses URDF text with urdfdom and builds the tree. `source` names the file in messages.
@@ -89,6 +109,10 @@ struct Provenance {
 
 /// The header text for a built robot (deterministic: same input, same bytes).
 std::string emit_header(const RobotDesc& robot, const Options& opt, const Provenance& prov);
+
+/// The text of `arbor-gen --summary`: bodies, DoF, joint kinds, masses, limits, how many
+/// placements a snap tolerance would make exact, notes and warnings.
+std::string summary_text(const RobotDesc& robot, const Options& opt, const Provenance& prov);
 
 /// Turns any string into a valid C++ identifier (invalid characters -> '_', leading digit and
 /// keywords handled). `pascal` gives PascalCase (for type names).

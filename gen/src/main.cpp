@@ -26,6 +26,13 @@ options:
   --tip LINK             keep only the chain from the root to LINK (repeatable)
   --lock JOINT=VALUE     make a movable joint fixed at VALUE [rad or m] (repeatable);
                          joints that mimic it follow; floating/planar joints lock at 0
+  --lock-mimic           lock every mimic group: its master at 0 if within its limits, else
+                         at mid-range (a --lock of the master wins); lists what it locked
+  --strict-inertia       reject inertias accepted with a warning (round-off, triangle inequality)
+  --fix-inertia          replace each inconsistent inertia by the nearest consistent one
+  --snap TOL             make joint rotations and axes within TOL [rad] of axis-aligned exact
+  --summary              print bodies, DoF, joint kinds, masses, limits, rounded angles and
+                         warnings (-o is then optional)
   --quiet                do not print notes
   -h, --help             this text
   --version              the generator version
@@ -95,6 +102,18 @@ arbor::gen::Options parse_args(int argc, char** argv, bool& quiet) {
       if (eq == std::string::npos || eq == 0 || !parse_double(v.substr(eq + 1), x))
         usage_error("--lock " + v + ": expected JOINT=VALUE with a number");
       opt.locks.emplace_back(v.substr(0, eq), x);
+    } else if (a == "--lock-mimic") {
+      opt.lock_mimic = true;
+    } else if (a == "--strict-inertia") {
+      opt.strict_inertia = true;
+    } else if (a == "--fix-inertia") {
+      opt.fix_inertia = true;
+    } else if (a == "--snap") {
+      const std::string v = value(i, a);
+      if (!parse_double(v, opt.snap) || !(opt.snap > 0) || !(opt.snap < 0.1))
+        usage_error("--snap " + v + ": expected a tolerance in (0, 0.1) rad");
+    } else if (a == "--summary") {
+      opt.summary = true;
     } else if (a == "--quiet") {
       quiet = true;
     } else if (!a.empty() && a[0] == '-' && a != "-") {
@@ -107,8 +126,10 @@ arbor::gen::Options parse_args(int argc, char** argv, bool& quiet) {
   }
   if (opt.input.empty())
     usage_error("no input URDF");
-  if (opt.output.empty())
+  if (opt.output.empty() && !opt.summary)
     usage_error("no output file (-o FILE)");
+  if (opt.strict_inertia && opt.fix_inertia)
+    usage_error("--strict-inertia and --fix-inertia exclude each other");
   return opt;
 }
 
@@ -164,12 +185,31 @@ int main(int argc, char** argv) {
     const arbor::gen::Provenance prov{std::filesystem::path(opt.input).filename().string(),
                                       arbor::gen::sha256_hex(text)};
     const std::string header = arbor::gen::emit_header(robot, opt, prov);
-    if (!quiet)
-      for (const auto& note : robot.notes)
-        std::cerr << "arbor-gen: note: " << note << "\n";
-    if (opt.output == "-") {
-      std::cout << header;
+    if (opt.summary) {
+      std::cout << arbor::gen::summary_text(robot, opt, prov);
     } else {
+      if (!quiet)
+        for (const auto& note : robot.notes)
+          std::cerr << "arbor-gen: note: " << note << "\n";
+      for (const auto& w : robot.warnings)
+        std::cerr << "arbor-gen: warning: " << opt.input << ": " << w << "\n";
+      if (!quiet && opt.snap == 0) {
+        int near = 0;
+        double worst = 0;
+        for (double a : robot.misalignment)
+          if (a <= 1e-4) {
+            ++near;
+            worst = std::max(worst, a);
+          }
+        if (near > 0)
+          std::cerr << "arbor-gen: note: " << near << " joint rotations or axes are within "
+                    << worst << " rad of axis-aligned (rounded angles?): --snap makes them exact\n";
+      }
+    }
+    if (opt.output == "-") {
+      if (!opt.summary)
+        std::cout << header;
+    } else if (!opt.output.empty()) {
       write_atomically(opt.output, header);
     }
   } catch (const arbor::gen::GenError& e) {

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -97,12 +99,18 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCase{"bad_number.urdf", "mass [1.2.3] is not a float"},
                       BadCase{"unknown_type.urdf", "Joint [j0] has no known type [ball]"},
                       BadCase{"mimic.urdf", "revolute joint 'j1' mimics joint 'j0'"},
+                      BadCase{"mimic_missing.urdf",
+                              "revolute joint 'finger' mimics joint 'ghost', which does not exist"},
                       BadCase{"floating.urdf", "floating joint 'free': floating joints are not"},
                       BadCase{"planar.urdf", "planar joint 'slide': planar joints are not"},
                       BadCase{"duplicate_link.urdf", "link 'a' is defined more than once"},
                       BadCase{"massless_subtree.urdf", "joint 'j1' moves no mass"},
                       BadCase{"no_movable.urdf", "no movable joint below root link 'base'"},
-                      BadCase{"bad_inertia.urdf", "link 'a': inertia is not physical"},
+                      BadCase{"negative_inertia.urdf",
+                              "link 'a': inertia has a negative principal moment -0.05 kg m^2 "
+                              "(trace 0.25): not a rotational inertia"},
+                      BadCase{"mass_on_axis.urdf",
+                              "joint 'spin' moves no inertia about its axis at q = 0"},
                       BadCase{"not_urdf.urdf", "no <robot> element"}),
     [](const auto& info) {
       std::string n = info.param.file;
@@ -171,7 +179,13 @@ INSTANTIATE_TEST_SUITE_P(
         OptionCase{"--name 3bad", 2, "not a valid C++ identifier"},
         OptionCase{"--name class", 2, "not a valid C++ identifier"},
         OptionCase{"--namespace a::1b", 2, "not a valid C++ namespace"},
-        OptionCase{"--frobnicate", 2, "unknown option --frobnicate"}));
+        OptionCase{"--frobnicate", 2, "unknown option --frobnicate"},
+        OptionCase{"--snap", 2, "--snap needs a value"},
+        OptionCase{"--snap 0", 2, "--snap 0: expected a tolerance in (0, 0.1) rad"},
+        OptionCase{"--snap -1e-5", 2, "expected a tolerance"},
+        OptionCase{"--snap 0.5", 2, "expected a tolerance"},
+        OptionCase{"--snap nan", 2, "expected a tolerance"},
+        OptionCase{"--strict-inertia --fix-inertia", 2, "exclude each other"}));
 
 TEST(GeneratorOptions, MissingOutputIsAUsageError) {
   const fs::path dir = scratch();
@@ -186,6 +200,9 @@ TEST(GeneratorOptions, HelpAndVersion) {
   EXPECT_EQ(h.status, 0);
   EXPECT_NE(h.out.find("usage: arbor-gen"), std::string::npos);
   EXPECT_NE(h.out.find("--lock JOINT=VALUE"), std::string::npos);
+  for (const char* flag :
+       {"--lock-mimic", "--strict-inertia", "--fix-inertia", "--snap TOL", "--summary"})
+    EXPECT_NE(h.out.find(flag), std::string::npos) << flag;
   const GenResult v = run("--version", dir);
   EXPECT_EQ(v.status, 0);
   EXPECT_EQ(v.out.rfind("arbor-gen ", 0), 0u);
@@ -220,6 +237,278 @@ TEST(GeneratorYumi, TipsOnTheArmFlangesSucceed) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("static constexpr int nv = 14;"), std::string::npos);
   EXPECT_EQ(r.out.find("gripper"), std::string::npos) << "gripper links must be dropped";
+}
+
+TEST(GeneratorYumi, LockMimicLocksEveryGripperAtItsZero) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kRobots + "/yumi.urdf' -o - --lock-mimic", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("static constexpr int nv = 14;"), std::string::npos);
+  EXPECT_NE(r.out.find("// Option: --lock-mimic"), std::string::npos);
+  for (const char* side : {"r", "l"}) {
+    const std::string s = side;
+    EXPECT_NE(r.err.find("--lock-mimic: locked gripper_" + s +
+                         "_joint at 0 (its zero) with its "
+                         "mimic joints gripper_" +
+                         s + "_joint_m"),
+              std::string::npos)
+        << r.err;
+  }
+}
+
+// ---- defects of real robot descriptions (tests/gen/data/real) -----------------------------
+const std::string kReal = kData + "/real/";
+
+/// The lines of `text` that start with `prefix`.
+std::vector<std::string> lines_with(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0)
+      out.push_back(line);
+  return out;
+}
+
+/// The body_inertia entry of `link` in a generated header: the line after "// <link>".
+std::string inertia_entry(const std::string& header, const std::string& link) {
+  const std::string marker = "      // " + link + "\n";
+  const auto at = header.find(marker, header.find("body_inertia"));
+  if (at == std::string::npos)
+    return "";
+  const auto begin = at + marker.size();
+  const auto end = header.find("}}},", begin);
+  return header.substr(begin, end == std::string::npos ? end : end + 4 - begin);
+}
+
+TEST(GeneratorDefects, TriangleInequalityIsAcceptedWithOneWarning) {
+  const fs::path dir = scratch();
+  const std::string in = kReal + "inertia_triangle.urdf";
+  const GenResult r = run("'" + in + "' -o '" + (dir / "t.hpp").string() + "'", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto warnings = lines_with(r.err, "arbor-gen: warning: ");
+  ASSERT_EQ(warnings.size(), 1u) << r.err;
+  EXPECT_EQ(warnings[0],
+            "arbor-gen: warning: " + in +
+                ": link 'a': inertia violates the triangle inequality (principal moments 0.1, "
+                "0.1, 0.5 kg m^2): physically inconsistent; kept as given (--fix-inertia "
+                "repairs it, --strict-inertia rejects it)");
+  const std::string header = slurp(dir / "t.hpp");
+  EXPECT_NE(inertia_entry(header, "a").find("{{0.1, 0.0, 0.0}, {0.0, 0.1, 0.0}, {0.0, 0.0, 0.5}}"),
+            std::string::npos)
+      << inertia_entry(header, "a");
+  EXPECT_NE(header.find("// Accepted with 1 warning(s)"), std::string::npos);
+}
+
+TEST(GeneratorDefects, FixInertiaProjectsOntoTheNearestConsistentInertia) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "inertia_triangle.urdf' -o - --fix-inertia", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  // (0.1, 0.1, 0.5) projected onto l0 + l1 = l2: (0.2, 0.2, 0.4); change 0.1 * sqrt(3).
+  EXPECT_NE(r.err.find("link 'a': inertia violates the triangle inequality (principal moments "
+                       "0.1, 0.1, 0.5 kg m^2): physically inconsistent; --fix-inertia: replaced "
+                       "by the nearest consistent inertia, principal moments 0.2, 0.2, 0.4 kg "
+                       "m^2 (change 0.1732 kg m^2, Frobenius)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(inertia_entry(r.out, "a").find("{{0.2, 0.0, 0.0}, {0.0, 0.2, 0.0}, {0.0, 0.0, 0.4}}"),
+            std::string::npos)
+      << inertia_entry(r.out, "a");
+}
+
+TEST(GeneratorDefects, SingularAllEqualInertiaIsFixedToItsHandDerivedProjection) {
+  const fs::path dir = scratch();
+  const GenResult w = run("'" + kReal + "inertia_singular.urdf' -o -", dir);
+  ASSERT_EQ(w.status, 0) << w.err;
+  EXPECT_NE(w.err.find("link 'cover': inertia violates the triangle inequality (principal "
+                       "moments 0, 0, 0.0003 kg m^2)"),
+            std::string::npos)
+      << w.err;
+  EXPECT_EQ(lines_with(w.err, "arbor-gen: warning: ").size(), 1u) << w.err;
+  const GenResult r = run("'" + kReal + "inertia_singular.urdf' -o - --fix-inertia", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("principal moments 0.0001, 0.0001, 0.0002 kg m^2"), std::string::npos)
+      << r.err;
+  // The values themselves are checked numerically in defect_dynamics_test.cpp.
+}
+
+TEST(GeneratorDefects, RoundOffNegativeMomentIsClampedToZero) {
+  const fs::path dir = scratch();
+  const std::string in = kReal + "inertia_roundoff.urdf";
+  const GenResult r = run("'" + in + "' -o -", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto warnings = lines_with(r.err, "arbor-gen: warning: ");
+  ASSERT_EQ(warnings.size(), 1u) << r.err;
+  EXPECT_EQ(warnings[0], "arbor-gen: warning: " + in +
+                             ": link 'rod': inertia has a round-off negative principal moment "
+                             "-5e-20 kg m^2 (exporter's zero?): clamped to zero");
+  EXPECT_NE(
+      inertia_entry(r.out, "rod").find("{{0.0, 0.0, 0.0}, {0.0, 0.0417, 0.0}, {0.0, 0.0, 0.0417}}"),
+      std::string::npos)
+      << inertia_entry(r.out, "rod");
+}
+
+TEST(GeneratorDefects, StrictInertiaTurnsEachWarningIntoAnError) {
+  const fs::path dir = scratch();
+  for (const auto& [file, expected] :
+       {std::pair<std::string, std::string>{"inertia_triangle.urdf",
+                                            "link 'a': inertia violates the triangle inequality"},
+        {"inertia_singular.urdf", "link 'cover': inertia violates the triangle inequality"},
+        {"inertia_roundoff.urdf",
+         "link 'rod': inertia has a round-off negative principal moment"}}) {
+    const fs::path header = dir / "s.hpp";
+    const GenResult r =
+        run("'" + kReal + file + "' -o '" + header.string() + "' --strict-inertia", dir);
+    EXPECT_EQ(r.status, 1) << file;
+    EXPECT_EQ(r.err.rfind("arbor-gen: error: " + kReal + file + ": " + expected, 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("[--strict-inertia]"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(header)) << file;
+  }
+}
+
+TEST(GeneratorDefects, EverydayExportDetailsPassQuietly) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "everyday.urdf' -o -", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "no warning and no note expected";
+  EXPECT_NE(r.out.find("static constexpr int nv = 2;"), std::string::npos);
+  EXPECT_NE(r.out.find("struct EveryDayArm {"), std::string::npos);
+  EXPECT_NE(r.out.find("{0.1227, {0.0, 0.0, 0.1},"), std::string::npos) << "mass .1227";
+  // The joint 'arm' and the link 'arm' keep their own index structs.
+  EXPECT_NE(r.out.find("struct joint_id {\n    static constexpr int arm = 0;"), std::string::npos);
+  EXPECT_NE(r.out.find("static constexpr int base_link = 0;"), std::string::npos);
+  EXPECT_NE(r.out.find("static constexpr int tool_frame = 2;"), std::string::npos);
+  EXPECT_NE(r.out.find("static constexpr int elbow_pitch = 1;"), std::string::npos);
+}
+
+TEST(GeneratorDefects, MimicGroupsWithoutTheFlagNameTheFlag) {
+  const fs::path dir = scratch();
+  const GenResult r =
+      run("'" + kReal + "mimic_hand.urdf' -o '" + (dir / "h.hpp").string() + "'", dir);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("prismatic joint 'grip_mirror' mimics joint 'grip': mimic joints are not "
+                       "supported. Lock every mimic group with --lock-mimic"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(files_in(dir), 0u);
+}
+
+TEST(GeneratorDefects, LockMimicLocksEachGroupAtTheStatedValue) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "mimic_hand.urdf' -o - --lock-mimic", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("static constexpr int nv = 2;"), std::string::npos);
+  const auto notes = lines_with(r.err, "arbor-gen: note: ");
+  const std::vector<std::string> expected = {
+      "arbor-gen: note: --lock-mimic: locked grip at 0 (its zero) with its mimic joints "
+      "grip_mirror",
+      "arbor-gen: note: --lock-mimic: locked thumb at 0.4 (the middle of its range [0.2, 0.6]) "
+      "with its mimic joints thumb_nail, thumb_tip",
+      "arbor-gen: note: joint grip_mirror mimics locked joint grip: locked at 0.000000",
+      "arbor-gen: note: joint thumb_tip mimics locked joint thumb: locked at 0.900000",
+      "arbor-gen: note: joint thumb_nail mimics locked joint thumb_tip: locked at 0.450000"};
+  EXPECT_EQ(notes, expected) << r.err;
+  EXPECT_TRUE(lines_with(r.err, "arbor-gen: warning: ").empty()) << r.err;
+}
+
+TEST(GeneratorDefects, AnExplicitLockOfAMasterWinsOverLockMimic) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "mimic_hand.urdf' -o - --lock-mimic --lock thumb=0.3", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("--lock-mimic: thumb locked at 0.3 by --lock, with its mimic joints "
+                       "thumb_nail, thumb_tip"),
+            std::string::npos)
+      << r.err;
+  // 2 * 0.3 + 0.1 = 0.7, then 0.5 * 0.7 = 0.35.
+  EXPECT_NE(r.err.find("joint thumb_nail mimics locked joint thumb_tip: locked at 0.350000"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(GeneratorDefects, RoundedAnglesAreCountedAndNamedWithoutSnap) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "rounded_angles.urdf' -o -", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  // 1.5708 - pi/2 = 3.67320510e-6; -3.1416 + pi = -7.34641021e-6 (the largest).
+  EXPECT_NE(r.err.find("arbor-gen: note: 4 joint rotations or axes are within 7.34641e-06 rad of "
+                       "axis-aligned (rounded angles?): --snap makes them exact"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("JointKind::revolute_unaligned,  // j3"), std::string::npos);
+  const GenResult s = run("'" + kReal + "rounded_angles.urdf' --summary", dir);
+  ASSERT_EQ(s.status, 0) << s.err;
+  // Misalignments: j2 3.2e-10 (rpy), j3 axis 1e-6, j1 3.67e-6, j3 rpy 7.35e-6.
+  EXPECT_NE(s.out.find("  rotations and axes not axis-aligned: 4; --snap TOL would make exact: "
+                       "1e-09: 1, 1e-07: 1, 1e-06: 2, 1e-05: 4, 0.0001: 4, 0.001: 4\n"),
+            std::string::npos)
+      << s.out;
+}
+
+TEST(GeneratorDefects, SnapMakesRoundedRotationsAndAxesExact) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kReal + "rounded_angles.urdf' -o - --snap 1e-5", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("--snap makes them exact"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("JointKind::revolute_z,  // j3"), std::string::npos);
+  EXPECT_NE(r.out.find("// Option: --snap 1e-05 (4 rotations and axes made exact)"),
+            std::string::npos);
+  // Every rotation entry of every placement is now exactly 0 or +-1. Each placement is written
+  // as four lines, "{{{r00, r01, r02}," "{r10, r11, r12}," "{r20, r21, r22}}," "{px, py, pz}},".
+  const auto begin = r.out.find("joint_placement = {{"), end = r.out.find("body_inertia");
+  std::istringstream in(r.out.substr(begin, end - begin));
+  std::vector<std::string> triples;
+  for (std::string line; std::getline(in, line);) {
+    const auto open = line.find_last_of('{');
+    if (line.find("//") != std::string::npos || open == std::string::npos ||
+        line.find('}', open) == std::string::npos)
+      continue;
+    triples.push_back(line.substr(open + 1, line.find('}', open) - open - 1));
+  }
+  int rows = 0;
+  for (std::size_t t = 0; t < triples.size(); ++t) {
+    if (t % 4 == 3)
+      continue;  // the translation
+    ++rows;
+    std::istringstream cells(triples[t]);
+    for (std::string cell; std::getline(cells, cell, ',');) {
+      cell.erase(0, cell.find_first_not_of(' '));
+      EXPECT_TRUE(cell == "0.0" || cell == "1.0" || cell == "-1.0") << triples[t];
+    }
+  }
+  EXPECT_EQ(triples.size(), 12u);  // 3 placements x (3 rotation rows + 1 translation)
+  EXPECT_EQ(rows, 9);
+  const GenResult s = run("'" + kReal + "rounded_angles.urdf' --summary --snap 1e-5", dir);
+  EXPECT_NE(s.out.find("  --snap 1e-05 made 4 exact: largest change 7.35e-06 rad;"),
+            std::string::npos)
+      << s.out;
+  EXPECT_NE(s.out.find("  rotations and axes not axis-aligned: 0\n"), std::string::npos) << s.out;
+}
+
+TEST(GeneratorSummary, PrintsTheRobotTableWithoutWritingAHeader) {
+  const fs::path dir = scratch();
+  const GenResult r = run("'" + kRobots + "/kinova_gen3.urdf' --summary", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(files_in(dir), 0u);
+  EXPECT_NE(r.out.find("robot 'GEN3-7DOF-VISION_ARM_URDF_V12' from kinova_gen3.urdf"),
+            std::string::npos);
+  EXPECT_NE(r.out.find("  bodies 7, DoF 7, operational frames 12, fixed base 'base_link'\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("  joint kinds: RZ x7\n"), std::string::npos);
+  // The URDF's joint_2 limits, velocity and effort; shoulder_link's mass.
+  EXPECT_NE(r.out.find("    1  joint_2                half_arm_1_link          RZ        0    "
+                       "-2.2400     2.2400       1.4        39    1.1636"),
+            std::string::npos)
+      << r.out;
+  // The Kinova's rpy = 3.1416 and 1.5708: seven rotations within 1e-5 of axis-aligned.
+  EXPECT_NE(r.out.find("rotations and axes not axis-aligned: 7; --snap TOL would make exact: "
+                       "1e-09: 0, 1e-07: 0, 1e-06: 0, 1e-05: 7,"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("  no warnings\n"), std::string::npos);
+  const GenResult w = run("'" + kReal + "inertia_roundoff.urdf' --summary", dir);
+  EXPECT_NE(w.out.find("  warning: link 'rod': inertia has a round-off negative principal"),
+            std::string::npos)
+      << w.out;
 }
 
 // ---- output properties -------------------------------------------------------------------
