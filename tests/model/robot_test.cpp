@@ -5,6 +5,7 @@
 #include <array>
 #include <limits>
 #include <string_view>
+#include <utility>
 
 #include "arbor/model/robot.hpp"
 
@@ -83,6 +84,34 @@ TEST(RobotContract, EachDefectHasItsOwnError) {
   EXPECT_EQ(check_robot<BadLimits>(), RobotError::limits);
   EXPECT_EQ(check_robot<BadFrame>(), RobotError::frame);
   EXPECT_EQ(check_robot<BadSizes>(), RobotError::sizes);
+}
+
+TEST(RobotContract, EveryErrorHasItsOwnDescription) {
+  // Every enumerator, from none to the last one: a distinct text starting with its own name.
+  const std::array<std::pair<RobotError, std::string_view>, 10> all = {{
+      {RobotError::none, "none"},
+      {RobotError::sizes, "sizes"},
+      {RobotError::topology, "topology"},
+      {RobotError::axis, "axis"},
+      {RobotError::rotation, "rotation"},
+      {RobotError::mass, "mass"},
+      {RobotError::massless_subtree, "massless_subtree"},
+      {RobotError::inertia, "inertia"},
+      {RobotError::limits, "limits"},
+      {RobotError::frame, "frame"},
+  }};
+  static_assert(int(RobotError::frame) == 9, "a new enumerator needs a line above");
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const std::string_view text = to_string(all[i].first);
+    EXPECT_EQ(text.substr(0, all[i].second.size()), all[i].second) << text;
+    if (i > 0) {
+      EXPECT_EQ(text.substr(all[i].second.size(), 2), ": ") << text;
+    }
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_NE(text, std::string_view(to_string(all[j].first)));
+  }
+  static_assert(to_string(RobotError::none)[0] == 'n', "usable at compile time");
+  EXPECT_EQ(std::string_view(to_string(RobotError(99))), "unknown RobotError");
 }
 
 TEST(RobotContract, Lookups) {

@@ -83,6 +83,33 @@ enum class RobotError {
   frame,             ///< a frame refers to a body that does not exist
 };
 
+/// A short description of each error, for messages and logs (no iostream needed).
+constexpr const char* to_string(RobotError e) {
+  switch (e) {
+    case RobotError::none:
+      return "none";
+    case RobotError::sizes:
+      return "sizes: need nq == nv == nb >= 1";
+    case RobotError::topology:
+      return "topology: parent[i] must be in [-1, i)";
+    case RobotError::axis:
+      return "axis: joint axes must be unit vectors (signed coordinate axes for aligned kinds)";
+    case RobotError::rotation:
+      return "rotation: a placement rotation is not proper (orthonormal, determinant +1)";
+    case RobotError::mass:
+      return "mass: a mass is negative or non-finite, or a centre of mass is non-finite";
+    case RobotError::massless_subtree:
+      return "massless_subtree: a DoF moves no mass (singular mass matrix)";
+    case RobotError::inertia:
+      return "inertia: a rotational inertia is not symmetric positive semi-definite";
+    case RobotError::limits:
+      return "limits: lower > upper, or a negative velocity or effort limit";
+    case RobotError::frame:
+      return "frame: a frame refers to a body that does not exist";
+  }
+  return "unknown RobotError";
+}
+
 namespace detail {
 
 constexpr bool rotation_ok(const Placement& X) {
