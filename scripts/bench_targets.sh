@@ -10,7 +10,13 @@ host="${BUILD_DIR:-$root/build}"
 bash "$root/scripts/setup.sh"
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$host" -j2 --target arbor-gen
-robots="double_pendulum iiwa7 kinova_gen3 yumi_no_grippers atlas"
+# The benchmark robots, from the one list in examples/robots/CMakeLists.txt (as configured).
+benchmark_robots() {  # build-dir
+  local r
+  r="$(sed -n 's/^ARBOR_BENCHMARK_ROBOTS:INTERNAL=//p' "$1/CMakeCache.txt" | tr ';' ' ')"
+  [ -n "$r" ] || { echo "bench_targets: no ARBOR_BENCHMARK_ROBOTS in $1/CMakeCache.txt" >&2; exit 1; }
+  echo "$r"
+}
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
@@ -26,6 +32,7 @@ for t in cortex-m7 cortex-m4f; do
   cmake -S "$root" -B "$b" --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_BUILD_TESTS=OFF -DARBOR_BUILD_BENCH=ON \
     >/dev/null
+  robots="$(benchmark_robots "$b")"
   targets="qp_bench"
   for r in $robots; do targets="$targets rbd_bench_$r firmware_$r"; done
   cmake --build "$b" -j2 --target $targets
@@ -49,6 +56,7 @@ a="$root/build-bench-aarch64-linux"
 cmake -S "$root" -B "$a" --toolchain "$root/toolchains/aarch64-linux.cmake" \
   -DCMAKE_BUILD_TYPE=Release -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_BUILD_TESTS=OFF \
   -DARBOR_BUILD_BENCH=ON >/dev/null
+robots="$(benchmark_robots "$a")"
 targets=""
 for r in $robots; do targets="$targets rbd_count_$r"; done
 cmake --build "$a" -j2 --target $targets
