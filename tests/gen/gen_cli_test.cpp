@@ -424,6 +424,20 @@ TEST(GeneratorDefects, AnExplicitLockOfAMasterWinsOverLockMimic) {
       << r.err;
 }
 
+TEST(GeneratorDefects, MimicCyclesAreRejectedWithAndWithoutLockMimic) {
+  const fs::path dir = scratch();
+  const std::string in = kData + "/bad/mimic_cycle.urdf";
+  for (const char* flags : {"", " --lock-mimic"}) {
+    const GenResult r = run("'" + in + "' -o '" + (dir / "c.hpp").string() + "'" + flags, dir);
+    EXPECT_EQ(r.status, 1) << flags;
+    EXPECT_EQ(
+        r.err.rfind("arbor-gen: error: " + in + ": joint 'j1': its mimic joints form a cycle", 0),
+        0u)
+        << r.err;
+    EXPECT_EQ(files_in(dir), 0u);
+  }
+}
+
 TEST(GeneratorDefects, RoundedAnglesAreCountedAndNamedWithoutSnap) {
   const fs::path dir = scratch();
   const GenResult r = run("'" + kReal + "rounded_angles.urdf' -o -", dir);
