@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   cmake make g++ pkg-config          # build
+  python3                            # header dependency-order check (tests/headers)
   libeigen3-dev                      # Eigen 3.4
   liburdfdom-dev liburdfdom-tools    # URDF parsing for arbor-gen (+ check_urdf)
   libtinyxml-dev libconsole-bridge-dev
