@@ -193,6 +193,12 @@ int main(int argc, char** argv) {
           std::cerr << "arbor-gen: note: " << note << "\n";
       for (const auto& w : robot.warnings)
         std::cerr << "arbor-gen: warning: " << opt.input << ": " << w << "\n";
+      if (!quiet && opt.snap > 0) {
+        std::cerr << "arbor-gen: note: --snap " << opt.snap << " made " << robot.snapped
+                  << " joint rotations and axes exact: largest change " << robot.snap_max_angle
+                  << " rad; frames at q = 0 moved by at most " << robot.snap_max_position
+                  << " m and " << robot.snap_max_rotation << " rad\n";
+      }
       if (!quiet && opt.snap == 0) {
         int near = 0;
         double worst = 0;
