@@ -3,6 +3,8 @@
 //   cold:   setup + cold start + solve
 //   warm:   solve of a perturbed problem (x0 shifted, costs perturbed by 1 %) from the solution of
 //           the nominal one (the copy of the iterate, a few us, is inside the timing)
+//   update: the real-time path: update(Convexity::assumed) of the bound (perturbed) problem,
+//           then the warm-started solve (compare with setup + warm)
 //   factor: one full block-tridiagonal factorization (all 17 stages)
 // Counters: iterations, active-set changes, stage blocks factorized per solve, solver bytes.
 #include <benchmark/benchmark.h>
@@ -16,8 +18,10 @@
 namespace {
 using arbor::bench::KinovaQp;
 using arbor::bench::make_kinova_qp;
+using arbor::qp::Convexity;
 using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
+using arbor::qp::detail::ConstraintState;
 
 template <typename Qp>
 struct Fixture {
@@ -32,9 +36,10 @@ struct Fixture {
     settings.max_iter = 1000;  // a cold start needs one iteration per active-set change
     make_kinova_qp(nominal, 1);
     make_kinova_qp(perturbed, 1, 1e-3, 0.01);
-    solver.setup(nominal, settings);
+    if (solver.setup(nominal, settings) != QpStatus::accepted)
+      return;
     solver.cold_start();
-    solver.solve();
+    benchmark::DoNotOptimize(solver.solve());
     x0 = solver.x();
     lx0 = solver.lam_x();
     la0 = solver.lam_a();
@@ -62,7 +67,7 @@ void bm_cold(benchmark::State& state) {
   auto& f = fixture<Qp>();
   QpStatus st = QpStatus::not_setup;
   for (auto _ : state) {
-    f.solver.setup(f.perturbed, f.settings);
+    benchmark::DoNotOptimize(f.solver.setup(f.perturbed, f.settings));
     f.solver.cold_start();
     st = f.solver.solve();
     benchmark::DoNotOptimize(f.solver.x().data());
@@ -73,8 +78,7 @@ void bm_cold(benchmark::State& state) {
 template <typename Qp>
 void bm_warm(benchmark::State& state) {
   auto& f = fixture<Qp>();
-  f.solver.setup(f.perturbed, f.settings);
-  QpStatus st = QpStatus::not_setup;
+  QpStatus st = f.solver.setup(f.perturbed, f.settings);
   for (auto _ : state) {
     f.solver.x() = f.x0;
     f.solver.lam_x() = f.lx0;
@@ -86,16 +90,31 @@ void bm_warm(benchmark::State& state) {
 }
 
 template <typename Qp>
+void bm_update(benchmark::State& state) {
+  auto& f = fixture<Qp>();
+  QpStatus st = f.solver.setup(f.perturbed, f.settings);
+  for (auto _ : state) {
+    f.solver.x() = f.x0;
+    f.solver.lam_x() = f.lx0;
+    f.solver.lam_a() = f.la0;
+    benchmark::DoNotOptimize(f.solver.update(Convexity::assumed));
+    st = f.solver.solve();
+    benchmark::DoNotOptimize(f.solver.x().data());
+  }
+  report(state, f.solver, st);
+}
+
+template <typename Qp>
 void bm_factor(benchmark::State& state) {
   using Scalar = typename decltype(Qp{}.terminal.q)::Scalar;
   static arbor::qp::detail::OcpBackend<Scalar, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn> be;
-  static std::array<std::int8_t, Qp::nv + Qp::na> ws{};
+  static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
   auto& f = fixture<Qp>();
   be.p = &f.nominal;
   for (int i = 0; i < Qp::nv + Qp::na; ++i)
-    ws[i] = i >= Qp::nv ? 2 : 0;  // dynamics rows
+    ws[i] = i >= Qp::nv ? ConstraintState::equality : ConstraintState::inactive;  // dynamics
   for (int i = 0; i < 16; ++i)
-    ws[i] = 2;  // x_0 fixed
+    ws[i] = ConstraintState::equality;  // x_0 fixed
   static Eigen::Matrix<Scalar, Qp::na, 1> wa;
   be.row_norms_sq(wa);
   const Scalar w = Scalar(1) / f.solver.settings().reg_dual;
@@ -124,10 +143,12 @@ using IdF = KinovaQp<float, 8>;
 
 BENCHMARK(bm_cold<FdD>)->Name("fd_double/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdD>)->Name("fd_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_update<FdD>)->Name("fd_double/update_assumed_warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<FdD>)->Name("fd_double/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_setup<FdD>)->Name("fd_double/setup")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<IdD>)->Name("id_double/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<IdD>)->Name("id_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_update<IdD>)->Name("id_double/update_assumed_warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<IdD>)->Name("id_double/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<FdF>)->Name("fd_float/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdF>)->Name("fd_float/warm")->Unit(benchmark::kMicrosecond);

@@ -1,6 +1,7 @@
-// Repeatable measure for RESULTS.md: one cold and one warm solve per variant, each between
-// callgrind toggles, plus the counters of each solve on stdout.
-//   valgrind --tool=callgrind --collect-atstart=no ./qp_count   (one dump per measured call)
+// Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
+// toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
+// the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
+//   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
 #include <cstdio>
 
 #include "arbor/qp/ocp_qp_solver.hpp"
@@ -22,12 +23,13 @@
 namespace {
 using arbor::bench::KinovaQp;
 using arbor::bench::make_kinova_qp;
+using arbor::qp::Convexity;
 using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
 
 template <typename Qp>
 struct Case {
-  Qp nominal, perturbed;
+  Qp nominal, perturbed, live;
   OcpQpSolver<Qp> solver;
 };
 
@@ -39,18 +41,18 @@ void run(const char* name) {
   using Scalar = typename decltype(c.nominal.terminal.q)::Scalar;
   arbor::qp::QpSettings<Scalar> settings;
   settings.max_iter = 1000;  // a cold start needs one iteration per active-set change
-  QpStatus st = QpStatus::not_setup;
+  QpStatus st = QpStatus::not_setup, su = QpStatus::not_setup;
   char label[64];
   std::snprintf(label, sizeof label, "%s/cold_nominal", name);
-  ARBOR_MEASURE(
-      label, (c.solver.setup(c.nominal, settings), c.solver.cold_start(), st = c.solver.solve()));
+  ARBOR_MEASURE(label, (su = c.solver.setup(c.nominal, settings), c.solver.cold_start(),
+                        st = c.solver.solve()));
   const auto& i = c.solver.info();
   std::printf(
       "%-10s cold nominal   %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
       arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
       i.active_constraints, double(i.primal_residual), double(i.dual_residual));
   std::snprintf(label, sizeof label, "%s/warm_perturbed", name);
-  ARBOR_MEASURE(label, (c.solver.setup(c.perturbed, settings), st = c.solver.solve()));
+  ARBOR_MEASURE(label, (su = c.solver.setup(c.perturbed, settings), st = c.solver.solve()));
   std::printf(
       "%-10s warm perturbed %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
       arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
@@ -61,6 +63,20 @@ void run(const char* name) {
       "%-10s cold perturbed %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
       arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
       i.active_constraints, double(i.primal_residual), double(i.dual_residual));
+  // real-time iteration: one problem object, refilled; update without the convexity check
+  c.live = c.nominal;
+  if (c.solver.setup(c.live, settings) != QpStatus::accepted)
+    std::printf("%-10s setup rejected\n", name);
+  c.solver.cold_start();
+  st = c.solver.solve();
+  c.live = c.perturbed;
+  std::snprintf(label, sizeof label, "%s/warm_update_assumed", name);
+  ARBOR_MEASURE(label, (su = c.solver.update(Convexity::assumed), st = c.solver.solve()));
+  std::printf(
+      "%-10s warm update    %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e (%s)\n",
+      name, arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
+      i.active_constraints, double(i.primal_residual), double(i.dual_residual),
+      arbor::qp::to_string(su));
   std::printf("%-10s sizeof(solver) %zu bytes, sizeof(problem) %zu bytes\n", name,
               sizeof(OcpQpSolver<Qp>), sizeof(Qp));
 }

@@ -26,7 +26,7 @@ void run(const char* name) {
   const std::uint64_t ipt = arbor::bench::insn_per_tick();
 
   const std::uint64_t t0 = arbor_ticks();
-  solver.setup(nominal, settings);
+  const arbor::qp::QpStatus cold_setup = solver.setup(nominal, settings);
   solver.cold_start();
   const arbor::qp::QpStatus cold = solver.solve();
   const std::uint64_t t1 = arbor_ticks();
@@ -35,7 +35,7 @@ void run(const char* name) {
   arbor_paint_stack();
   const std::uint32_t base = arbor_stack_high_water();
   const std::uint64_t t2 = arbor_ticks();
-  solver.setup(perturbed, settings);
+  const arbor::qp::QpStatus warm_setup = solver.setup(perturbed, settings);
   const arbor::qp::QpStatus warm = solver.solve();
   const std::uint64_t t3 = arbor_ticks();
   const std::uint32_t stack = arbor_stack_high_water() - base;
@@ -59,7 +59,9 @@ void run(const char* name) {
   put(" ");
   put(std::uint64_t(stack));
   put("\n");
-  if (warm != arbor::qp::QpStatus::solved) ++arbor::bench::failure_count();
+  if (cold_setup != arbor::qp::QpStatus::accepted || warm_setup != arbor::qp::QpStatus::accepted ||
+      warm != arbor::qp::QpStatus::solved)
+    ++arbor::bench::failure_count();
 }
 
 }  // namespace

@@ -9,6 +9,11 @@
 #include "alloc_guard.hpp"
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "status_names.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
 
 namespace {
 using arbor::qp::DenseQpProblem;
@@ -28,7 +33,7 @@ struct Case {
   QpStatus run() {
     arbor::test::NoAllocScope guard;
     setup_status = s.setup(p);
-    if (setup_status != QpStatus::solved)
+    if (setup_status != QpStatus::accepted)
       return setup_status;
     s.cold_start();
     return s.solve();

@@ -10,6 +10,11 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "status_names.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
 
 namespace {
 using arbor::qp::DenseQpProblem;
@@ -64,10 +69,10 @@ void expect_optimal(const Qp& qp) {
   QpStatus st, sd;
   {
     arbor::test::NoAllocScope guard;
-    ASSERT_EQ(solver.setup(qp), QpStatus::solved);
+    ASSERT_EQ(solver.setup(qp), QpStatus::accepted);
     solver.cold_start();
     st = solver.solve();
-    ASSERT_EQ(dense.setup(dp), QpStatus::solved);
+    ASSERT_EQ(dense.setup(dp), QpStatus::accepted);
     dense.cold_start();
     sd = dense.solve();
   }
@@ -89,7 +94,7 @@ QpStatus status_of(const Qp& qp) {
   static OcpQpSolver<Qp> solver;
   arbor::test::NoAllocScope guard;
   const QpStatus su = solver.setup(qp);
-  if (su != QpStatus::solved)
+  if (su != QpStatus::accepted)
     return su;
   solver.cold_start();
   return solver.solve();
@@ -231,11 +236,11 @@ TEST(QpOcpCases, IterationCapReturnsBestIterate) {
   opt.bound_width = 0.3;
   opt.cost_scale = 10;
   t::random_ocp(qp, rng, opt);
-  QpStatus full, capped;
+  QpStatus setup, full, capped;
   int full_iters = 0;
   {
     arbor::test::NoAllocScope guard;
-    solver.setup(qp);
+    setup = solver.setup(qp);
     solver.cold_start();
     full = solver.solve();
     full_iters = solver.info().iterations;
@@ -243,6 +248,7 @@ TEST(QpOcpCases, IterationCapReturnsBestIterate) {
     solver.cold_start();
     capped = solver.solve();
   }
+  ASSERT_EQ(setup, QpStatus::accepted);
   ASSERT_EQ(full, QpStatus::solved);
   ASSERT_GT(full_iters, 2);
   EXPECT_EQ(capped, QpStatus::iteration_limit);
@@ -264,10 +270,10 @@ TEST(QpOcpCases, WarmStartFromPerturbedProblemNeedsFarFewerIterations) {
   opt.cost_scale = 10;
   t::random_ocp(qp, rng, opt);
   std::normal_distribution<double> nd(0.0, 1.0);
-  QpStatus s1, s2, s3;
+  QpStatus u1, u2, s1, s2, s3;
   {
     arbor::test::NoAllocScope guard;
-    solver.setup(qp);
+    u1 = solver.setup(qp);
     solver.cold_start();
     s1 = solver.solve();  // the solution of the nominal problem is the warm start
   }
@@ -279,7 +285,7 @@ TEST(QpOcpCases, WarmStartFromPerturbedProblemNeedsFarFewerIterations) {
   }
   {
     arbor::test::NoAllocScope guard;
-    solver.setup(qp);  // keeps the iterate
+    u2 = solver.setup(qp);  // keeps the iterate
     s2 = solver.solve();
     warm = solver.info().iterations;
     changes_warm = solver.info().active_set_changes;
@@ -288,6 +294,8 @@ TEST(QpOcpCases, WarmStartFromPerturbedProblemNeedsFarFewerIterations) {
     cold = solver.info().iterations;
     changes_cold = solver.info().active_set_changes;
   }
+  ASSERT_EQ(u1, QpStatus::accepted);
+  ASSERT_EQ(u2, QpStatus::accepted);
   ASSERT_EQ(s1, QpStatus::solved);
   ASSERT_EQ(s2, QpStatus::solved);
   ASSERT_EQ(s3, QpStatus::solved);

@@ -12,6 +12,11 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "status_names.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
 
 namespace arbor::qp::test {
 
@@ -48,8 +53,8 @@ void check_random(unsigned seed0, int count, Convexity kind, bool enumerate) {
     }
     SCOPED_TRACE(::testing::Message() << "N=" << N << " nx=" << NX << " nu=" << NU << " ng=" << NG
                                       << " ngn=" << NGN << " seed=" << seed0 + c);
-    ASSERT_EQ(su, QpStatus::solved);
-    ASSERT_EQ(sdu, QpStatus::solved);
+    ASSERT_EQ(su, QpStatus::accepted);
+    ASSERT_EQ(sdu, QpStatus::accepted);
     EXPECT_EQ(st, QpStatus::solved) << to_string(st) << " iters " << solver.info().iterations;
     EXPECT_EQ(sd, QpStatus::solved) << to_string(sd) << " iters " << dense.info().iterations;
     const Kkt k = kkt_residuals(ref, solver.x(), solver.lam_x(), solver.lam_a());

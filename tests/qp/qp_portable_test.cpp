@@ -6,6 +6,11 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "arbor_test.hpp"
+#include "status_names.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
 
 namespace {
 
@@ -39,8 +44,8 @@ void casadi_3141() {
   p.lba << S(-1);  // 0 <= 2x + 1 <= 2  <=>  -1 <= 2x <= 1
   p.uba << S(1);
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(int(solver.setup(p)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::solved));
+  ASSERT_EQ(solver.setup(p), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::solved);
   EXPECT_NEAR(solver.x()(0), -0.5, tol<S>());
 }
 
@@ -60,8 +65,8 @@ void box_projection() {
   p.lbx.setConstant(S(-1));
   p.ubx.setConstant(S(1));
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(int(solver.setup(p)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::solved));
+  ASSERT_EQ(solver.setup(p), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::solved);
   EXPECT_NEAR(solver.x()(0), 1.0, tol<S>());
   EXPECT_NEAR(solver.x()(1), -1.0, tol<S>());
   EXPECT_NEAR(solver.x()(2), 0.25, tol<S>());
@@ -85,8 +90,8 @@ void equality() {
   p.lbx.setConstant(-inf<S>());
   p.ubx.setConstant(inf<S>());
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(int(solver.setup(p)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::solved));
+  ASSERT_EQ(solver.setup(p), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::solved);
   for (int i = 0; i < 3; ++i)
     EXPECT_NEAR(solver.x()(i), 1.0, tol<S>());
 }
@@ -106,8 +111,8 @@ void linear_program() {
   p.lbx.setZero();
   p.ubx.setConstant(inf<S>());
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(int(solver.setup(p)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::solved));
+  ASSERT_EQ(solver.setup(p), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::solved);
   EXPECT_NEAR(solver.x()(0), 1.6, tol<S>());
   EXPECT_NEAR(solver.x()(1), 1.2, tol<S>());
 }
@@ -126,8 +131,8 @@ void infeasible() {
   p.lbx.setConstant(-inf<S>());
   p.ubx.setConstant(S(1));
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(int(solver.setup(p)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::infeasible));
+  ASSERT_EQ(solver.setup(p), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::infeasible);
 }
 
 template <class S>
@@ -143,7 +148,7 @@ void non_finite() {
   p.lbx.setConstant(S(-1));
   p.ubx.setConstant(S(1));
   arbor::test::NoAllocScope guard;
-  EXPECT_EQ(int(solver.setup(p)), int(QpStatus::non_finite));
+  EXPECT_EQ(solver.setup(p), QpStatus::non_finite);
 }
 
 // Stage-structured: x_{k+1} = x_k + u_k, x_0 = 1 (fixed by its bounds), N = 3,
@@ -177,8 +182,8 @@ void ocp_one_dimensional(bool bounded) {
   qp.terminal.ubx << inf<S>();
   arbor::test::NoAllocScope guard;
   solver.cold_start();
-  ASSERT_EQ(int(solver.setup(qp)), int(QpStatus::solved));
-  EXPECT_EQ(int(solver.solve()), int(QpStatus::solved));
+  ASSERT_EQ(solver.setup(qp), QpStatus::accepted);
+  EXPECT_EQ(solver.solve(), QpStatus::solved);
   const double u = bounded ? -0.2 : -0.25;
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(solver.input(k)(0), u, tol<S>());

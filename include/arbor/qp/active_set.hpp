@@ -6,7 +6,8 @@
 // H x + g + lam_x + A' lam_a = 0; lam_i > 0 means "upper bound active", lam_i < 0 "lower active".
 //
 // Method (QRQP-style, see /work/shared/QRQP.md, our own implementation):
-// - An explicit int8 working set ws (0 inactive, -1 lower, +1 upper, 2 equality) is built from
+// - An explicit int8 working set ws (ConstraintState in backend.hpp: inactive, lower, upper,
+//   equality) is built from
 //   the multipliers' signs at the start of every solve (warm start = keep x and lam), and kept
 //   consistent afterwards: an inactive constraint has lam_i == 0 exactly.
 // - Each iteration evaluates the residuals and makes at most ONE working-set change: a pending
@@ -39,17 +40,12 @@
 //   `infeasible` (an inconsistent working set makes lam grow like 1/epsilon); a full step along a
 //   zero-curvature descent direction that no constraint blocks gives `unbounded`; the iteration
 //   cap returns the best iterate seen, with its residuals.
-// Memory of this part: about 11 NV + 8 NA scalars and NV + NA bytes. The linear algebra lives in
-// a backend with this interface (sizes fixed, no allocation):
-//   void hess_mul(const VecV& x, VecV& y) const;   // y = H x
-//   void cons_mul(const VecV& x, VecA& y) const;   // y = A x
-//   void cons_tmul(const VecA& l, VecV& y) const;  // y = A' l
-//   void mark_changed(int i);                      // constraint i (flat z index) changed state
-//   void mark_all();                               // everything must be refactorized
-//   void row_norms_sq(VecA& n) const;              // n_j = |a_j|^2
-//   int factorize(const std::int8_t* ws, Scalar delta, Scalar w, const VecA& wa);  // M with
-//       bound weight w = 1/eps and row weights wa; returns blocks factorized, -1 on failure
-//   void solve(VecV& b) const;                     // b <- M^-1 b
+// Memory of this part: about 11 NV + 8 NA scalars and NV + NA bytes. Cost per iteration: O(NV +
+// NA) here plus one backend solve, and a (partial) refactorization after a working-set change.
+// The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
+// the steps below in this order, each a member function: begin() once, then per iteration
+// evaluate(), converged_or_stopped(), change_working_set(), refactorize(), compute_step(),
+// ratio_test(), singular_dual_step(), take_step(); finish() once.
 #pragma once
 
 #include <Eigen/Core>
@@ -60,13 +56,11 @@
 #include <limits>
 
 #include "arbor/core/config.hpp"
+#include "arbor/qp/backend.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/status.hpp"
 
 namespace arbor::qp::detail {
-
-/// Working-set states of a constraint.
-enum : std::int8_t { kInactive = 0, kLower = -1, kUpper = 1, kEquality = 2 };
 
 /// Iterate, bounds and workspace of the active-set method (sizes fixed at compile time).
 template <typename Scalar, int NV, int NA>
@@ -78,13 +72,13 @@ class ActiveSetCore {
   using VecV = Eigen::Matrix<Scalar, NV, 1>;
   using VecA = Eigen::Matrix<Scalar, NA, 1>;
 
-  VecV lbx, ubx;                     ///< variable bounds (may be +-inf)
-  VecA lba, uba;                     ///< constraint-row bounds (may be +-inf)
-  VecV g;                            ///< linear cost
-  VecV x;                            ///< primal iterate (warm start in, solution out)
-  VecV lam_x;                        ///< multipliers of the variable bounds
-  VecA lam_a;                        ///< multipliers of the constraint rows
-  std::array<std::int8_t, nz> ws{};  ///< working set (see enum above)
+  VecV lbx, ubx;                         ///< variable bounds (may be +-inf)
+  VecA lba, uba;                         ///< constraint-row bounds (may be +-inf)
+  VecV g;                                ///< linear cost
+  VecV x;                                ///< primal iterate (warm start in, solution out)
+  VecV lam_x;                            ///< multipliers of the variable bounds
+  VecA lam_a;                            ///< multipliers of the constraint rows
+  std::array<ConstraintState, nz> ws{};  ///< working set
 
   /// x = projection of 0 onto the bounds, all multipliers zero.
   void cold_start() {
@@ -95,10 +89,31 @@ class ActiveSetCore {
   }
 
   /// Runs the method from the current (x, lam); fills info; returns the status.
-  template <typename Backend>
-  QpStatus solve(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info);
+  template <ActiveSetBackend<Scalar, NV, NA> Backend>
+  [[nodiscard]] QpStatus solve(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info) {
+    info = SolveInfo<Scalar>{};
+    begin(be, s);
+    QpStatus status = QpStatus::iteration_limit;
+    for (int it = 0;; ++it) {
+      evaluate(be);
+      if (converged_or_stopped(s, it, status))
+        break;
+      info.iterations = it + 1;
+      const bool changed = change_working_set(be, s, info);
+      if (!refactorize(be, s, info)) {
+        status = QpStatus::non_convex;
+        break;
+      }
+      compute_step(be);
+      const Scalar tau = ratio_test(s);
+      const Scalar tau_dual = singular_dual_step(s, tau, changed);
+      take_step(be, s, tau, tau_dual, changed);
+    }
+    return finish(be, s, info, status);
+  }
 
  private:
+  using State = ConstraintState;
   static constexpr Scalar inf() { return std::numeric_limits<Scalar>::infinity(); }
   static Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
@@ -110,13 +125,44 @@ class ActiveSetCore {
   Scalar lam(int i) const { return i < NV ? lam_x(i) : lam_a(i - NV); }
   Scalar dlam(int i) const { return i < NV ? dlam_x_(i) : dlam_a_(i - NV); }
   /// Target value of an active constraint.
-  Scalar target(int i) const { return ws[i] == kLower ? lb(i) : ub(i); }
+  Scalar target(int i) const { return ws[i] == State::lower ? lb(i) : ub(i); }
+  /// Active on one side (not inactive, not an equality).
+  bool one_sided(int i) const { return ws[i] == State::upper || ws[i] == State::lower; }
 
+  // ---- the steps of solve()
+  /// Repairs a non-finite iterate, builds the working set and the row weights, resets the loop.
+  template <typename Backend>
+  void begin(Backend& be, const QpSettings<Scalar>& s);
   /// Working set from the multipliers' signs; zeroes multipliers that cannot be active.
   void working_set_from_multipliers();
   /// z = A x, hx = H x, r = H x + g + A' lam and the scalar residuals below.
   template <typename Backend>
   void evaluate(const Backend& be);
+  /// Keeps the best iterate; true (with the status) when the loop must end here.
+  bool converged_or_stopped(const QpSettings<Scalar>& s, int it, QpStatus& status);
+  /// Makes at most one working-set change; true when one was made.
+  template <typename Backend>
+  bool change_working_set(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info);
+  /// Refactorizes after a change, raising delta on pivot failures; false when it exceeds its cap.
+  template <typename Backend>
+  bool refactorize(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info);
+  /// (dx, dz, dlam): the step to the regularised equality-constrained QP of the working set.
+  template <typename Backend>
+  void compute_step(const Backend& be);
+  /// Longest step in [0, 1] keeping constraints within tolerance and multiplier signs; sets the
+  /// pending change of the blocking constraint.
+  Scalar ratio_test(const QpSettings<Scalar>& s);
+  /// Multiplier step length (tau, or longer when a stalled, inconsistent working set must shed
+  /// a constraint: QRQP's singular step in multiplier space).
+  Scalar singular_dual_step(const QpSettings<Scalar>& s, Scalar tau, bool changed);
+  /// Applies the step and flags a possible unbounded direction.
+  template <typename Backend>
+  void take_step(const Backend& be, const QpSettings<Scalar>& s, Scalar tau, Scalar tau_dual,
+                 bool changed);
+  /// Returns the best iterate when the loop did not succeed; final residuals and check.
+  template <typename Backend>
+  QpStatus finish(const Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
+                  QpStatus status);
   bool infeasibility_certificate(const QpSettings<Scalar>& s) const;
   template <typename Backend>
   bool unboundedness_certificate(const Backend& be, const QpSettings<Scalar>& s);
@@ -131,7 +177,20 @@ class ActiveSetCore {
   int isd_ = -1;         ///< its index
   Scalar pc_ = 0;        ///< max violation among constraints that are not active on that side
   int ipc_ = -1;         ///< its index
-  std::int8_t spc_ = 0;  ///< the violated side
+  State spc_ = State::inactive;  ///< the violated side
+
+  // state of the iteration loop
+  Scalar delta_ = 0;                    ///< primal regularisation in use
+  Scalar w_ = 0;                        ///< bound weight 1 / eps
+  int pending_ = -1;                    ///< index of a pending change from the ratio test
+  State pending_ws_ = State::inactive;  ///< its next working-set state
+  bool refactor_ = true;                ///< the factorization is out of date
+  Scalar best_ = 0;                     ///< best merit so far
+  bool have_best_ = false;              ///< best_x_ etc. hold an iterate
+  bool unbounded_candidate_ = false;    ///< the last step was an unbounded-direction candidate
+  int certificate_count_ = 0;           ///< consecutive iterates with a Farkas certificate
+  bool refining_ = false;               ///< the previous iteration left the working set unchanged
+  Scalar pr_prev_ = 0;                  ///< primal error of the previous iteration
 
   VecA za_;          ///< A x
   VecV hx_;          ///< H x
@@ -148,17 +207,53 @@ class ActiveSetCore {
 };
 
 template <typename Scalar, int NV, int NA>
+template <typename Backend>
+void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>& s) {
+  ARBOR_ASSERT(s.reg_primal > 0 && s.reg_dual > 0, "regularisations must be positive");
+  for (int i = 0; i < NV; ++i) {
+    if (!std::isfinite(x(i)) || !std::isfinite(lam_x(i))) {
+      cold_start();
+      break;
+    }
+  }
+  for (int i = 0; i < NA; ++i) {
+    if (!std::isfinite(lam_a(i))) {
+      cold_start();
+      break;
+    }
+  }
+  working_set_from_multipliers();
+  delta_ = s.reg_primal;
+  w_ = Scalar(1) / s.reg_dual;
+  // row weights 1 / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
+  // small coefficients (a linearised path constraint) converge as fast as bounds
+  be.row_norms_sq(wa_);
+  for (int j = 0; j < NA; ++j)
+    wa_(j) = wa_(j) > 0 ? w_ / wa_(j) : w_;
+  refactor_ = true;
+  be.mark_all();
+  pending_ = -1;
+  pending_ws_ = State::inactive;
+  best_ = inf();
+  have_best_ = false;
+  unbounded_candidate_ = false;
+  certificate_count_ = 0;
+  refining_ = false;
+  pr_prev_ = inf();
+}
+
+template <typename Scalar, int NV, int NA>
 void ActiveSetCore<Scalar, NV, NA>::working_set_from_multipliers() {
   for (int i = 0; i < nz; ++i) {
     const Scalar l = lb(i), u = ub(i), m = lam(i);
     if (l == u) {
-      ws[i] = kEquality;
+      ws[i] = State::equality;
     } else if (m > 0 && u < inf()) {
-      ws[i] = kUpper;
+      ws[i] = State::upper;
     } else if (m < 0 && l > -inf()) {
-      ws[i] = kLower;
+      ws[i] = State::lower;
     } else {
-      ws[i] = kInactive;
+      ws[i] = State::inactive;
       lam(i) = 0;
     }
   }
@@ -188,7 +283,7 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
   isd_ = -1;
   pc_ = 0;
   ipc_ = -1;
-  spc_ = 0;
+  spc_ = State::inactive;
   for (int i = 0; i < nz; ++i) {
     const Scalar z = zval(i), l = lb(i), u = ub(i), m = lam(i);
     if (!std::isfinite(z) || !std::isfinite(m)) {
@@ -201,8 +296,8 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
     if (v > pr_)
       pr_ = v;
     if (v > 0) {
-      const std::int8_t side = vl > vu ? kLower : kUpper;
-      if (ws[i] != side && ws[i] != kEquality && v > pc_) {
+      const State side = vl > vu ? State::lower : State::upper;
+      if (ws[i] != side && ws[i] != State::equality && v > pc_) {
         pc_ = v;
         ipc_ = i;
         spc_ = side;
@@ -216,14 +311,243 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
       if (c > co_)
         co_ = c;
     }
-    if (ws[i] == kUpper || ws[i] == kLower) {
-      const Scalar wrong = -m * ws[i];
+    if (one_sided(i)) {
+      const Scalar wrong = -m * side_sign<Scalar>(ws[i]);
       if (wrong > sd_) {
         sd_ = wrong;
         isd_ = i;
       }
     }
   }
+}
+
+template <typename Scalar, int NV, int NA>
+bool ActiveSetCore<Scalar, NV, NA>::converged_or_stopped(const QpSettings<Scalar>& s, int it,
+                                                         QpStatus& status) {
+  if (!std::isfinite(pr_) || !std::isfinite(du_)) {
+    status = QpStatus::non_finite;
+    return true;
+  }
+  const Scalar merit =
+      std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
+               co_ / (s.tol_comp * pr_scale_));
+  if (merit < best_) {
+    best_ = merit;
+    have_best_ = true;
+    best_x_ = x;
+    best_lam_x_ = lam_x;
+    best_lam_a_ = lam_a;
+  }
+  if (merit <= 1) {
+    status = QpStatus::solved;
+    return true;
+  }
+  if (unbounded_candidate_ && pr_ <= s.tol_primal) {
+    status = QpStatus::unbounded;
+    return true;
+  }
+  unbounded_candidate_ = false;
+  // a certificate that holds on several consecutive iterates (transients do not count)
+  certificate_count_ = infeasibility_certificate(s) ? certificate_count_ + 1 : 0;
+  if (certificate_count_ >= 3) {
+    status = QpStatus::infeasible;
+    return true;
+  }
+  return it >= s.max_iter;  // status stays iteration_limit
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSettings<Scalar>& s,
+                                                       SolveInfo<Scalar>& info) {
+  // a pending change from the last ratio test, else the most violated constraint when the
+  // primal error dominates, else the multiplier of the most wrong sign
+  int change = -1;
+  State change_ws = State::inactive;
+  if (pending_ >= 0) {
+    change = pending_;
+    change_ws = pending_ws_;
+  } else if (ipc_ >= 0 && pc_ > s.tol_primal && pc_ / s.tol_primal >= sd_ / s.tol_dual) {
+    change = ipc_;
+    change_ws = spc_;
+  } else if (isd_ >= 0 && sd_ > s.tol_dual) {
+    change = isd_;
+    change_ws = State::inactive;
+  }
+  pending_ = -1;
+  if (change < 0 || ws[change] == change_ws || ws[change] == State::equality)
+    return false;
+  ws[change] = change_ws;
+  const bool had_multiplier = lam(change) != 0;
+  lam(change) = 0;
+  if (had_multiplier)
+    evaluate(be);  // r must not keep the dropped multiplier
+  be.mark_changed(change);
+  refactor_ = true;
+  ++info.active_set_changes;
+  return true;
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Scalar>& s,
+                                                SolveInfo<Scalar>& info) {
+  if (!refactor_)
+    return true;
+  for (;;) {
+    const int done = be.factorize(ws.data(), delta_, w_, wa_);
+    if (done >= 0) {
+      info.stages_factorized += done;
+      break;
+    }
+    delta_ *= Scalar(10);
+    ++info.regularization_bumps;
+    be.mark_all();
+    if (delta_ > s.reg_primal_max)
+      return false;
+  }
+  ++info.factorizations;
+  refactor_ = false;
+  return true;
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
+  tmpa_.setZero();
+  for (int j = 0; j < NA; ++j) {
+    if (ws[NV + j] != State::inactive)
+      tmpa_(j) = wa_(j) * (za_(j) - target(NV + j));
+  }
+  be.cons_tmul(tmpa_, dx_);
+  dx_ = -(dx_ + r_);
+  for (int i = 0; i < NV; ++i) {
+    if (ws[i] != State::inactive)
+      dx_(i) -= w_ * (x(i) - target(i));
+  }
+  be.solve(dx_);
+  be.cons_mul(dx_, dza_);
+  for (int i = 0; i < nz; ++i) {
+    const Scalar wi = i < NV ? w_ : wa_(i - NV);
+    const Scalar d = ws[i] != State::inactive ? wi * (zval(i) - target(i) + dzval(i)) : -lam(i);
+    if (i < NV) {
+      dlam_x_(i) = d;
+    } else {
+      dlam_a_(i - NV) = d;
+    }
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+Scalar ActiveSetCore<Scalar, NV, NA>::ratio_test(const QpSettings<Scalar>& s) {
+  Scalar tau = 1;
+  const Scalar e = std::max(s.tol_primal, pr_);
+  for (int i = 0; i < nz; ++i) {
+    const Scalar dz = dzval(i);
+    if (ws[i] == State::inactive) {
+      if (dz > 0 && ub(i) < inf()) {
+        const Scalar t = std::max(Scalar(0), ub(i) + e - zval(i)) / dz;
+        if (t < tau) {
+          tau = t;
+          pending_ = i;
+          pending_ws_ = State::upper;
+        }
+      } else if (dz < 0 && lb(i) > -inf()) {
+        const Scalar t = std::min(Scalar(0), lb(i) - e - zval(i)) / dz;
+        if (t < tau) {
+          tau = t;
+          pending_ = i;
+          pending_ws_ = State::lower;
+        }
+      }
+    } else if (one_sided(i)) {
+      const Scalar sg = side_sign<Scalar>(ws[i]);
+      const Scalar m = lam(i) * sg, dm = dlam(i) * sg;
+      if (m > 0 && dm < 0) {
+        const Scalar t = m / -dm;
+        if (t < tau) {
+          tau = t;
+          pending_ = i;
+          pending_ws_ = State::inactive;
+        }
+      }
+    }
+  }
+  return tau;
+}
+
+template <typename Scalar, int NV, int NA>
+Scalar ActiveSetCore<Scalar, NV, NA>::singular_dual_step(const QpSettings<Scalar>& s, Scalar tau,
+                                                         bool changed) {
+  // Stagnation on an unchanged working set: the primal error does not fall although full
+  // steps are taken, so the working set is (nearly) inconsistent and the multipliers drift
+  // along a null-space direction of A_W'. Follow that direction to the first active multiplier
+  // that reaches zero and drop its constraint (QRQP's singular step, in multiplier space).
+  Scalar tau_dual = tau;
+  if (tau == Scalar(1) && pending_ < 0 && !changed && refining_ && pr_ > s.tol_primal &&
+      pr_ > Scalar(0.5) * pr_prev_) {
+    Scalar tmin = inf();
+    for (int i = 0; i < nz; ++i) {
+      if (!one_sided(i))
+        continue;
+      const Scalar sg = side_sign<Scalar>(ws[i]);
+      const Scalar m = lam(i) * sg, dm = dlam(i) * sg;
+      if (m >= 0 && dm < 0 && m / -dm < tmin) {
+        tmin = m / -dm;
+        pending_ = i;
+        pending_ws_ = State::inactive;
+      }
+    }
+    if (pending_ >= 0)
+      tau_dual = tmin > tau ? tmin : tau;
+  }
+  return tau_dual;
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+void ActiveSetCore<Scalar, NV, NA>::take_step(const Backend& be, const QpSettings<Scalar>& s,
+                                              Scalar tau, Scalar tau_dual, bool changed) {
+  refining_ = !changed;
+  pr_prev_ = pr_;
+  x += tau * dx_;
+  lam_x += tau_dual * dlam_x_;
+  lam_a += tau_dual * dlam_a_;
+  if (pending_ >= 0 && pending_ws_ == State::inactive)
+    lam(pending_) = 0;
+  if (tau == Scalar(1) && delta_ * dx_.cwiseAbs().maxCoeff() > s.tol_dual &&
+      unboundedness_certificate(be, s)) {
+    unbounded_candidate_ = true;  // confirmed if the next iterate is primal feasible
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettings<Scalar>& s,
+                                               SolveInfo<Scalar>& info, QpStatus status) {
+  if (status != QpStatus::solved && status != QpStatus::infeasible &&
+      status != QpStatus::unbounded && have_best_) {
+    x = best_x_;
+    lam_x = best_lam_x_;
+    lam_a = best_lam_a_;
+    working_set_from_multipliers();
+    evaluate(be);
+  }
+  // explicit final check on the original data (residuals of the returned iterate)
+  info.primal_residual = pr_;
+  info.dual_residual = du_;
+  info.complementarity = co_;
+  info.objective = Scalar(0.5) * x.dot(hx_) + g.dot(x);
+  int na_ws = 0;
+  for (int i = 0; i < nz; ++i)
+    na_ws += ws[i] != State::inactive ? 1 : 0;
+  info.active_constraints = na_ws;
+  if (status == QpStatus::solved &&
+      !(pr_ <= s.tol_primal * pr_scale_ && du_ <= s.tol_dual * du_scale_ &&
+        co_ <= s.tol_comp * pr_scale_)) {
+    status = QpStatus::iteration_limit;
+  }
+  return status;
 }
 
 template <typename Scalar, int NV, int NA>
@@ -277,242 +601,6 @@ bool ActiveSetCore<Scalar, NV, NA>::unboundedness_certificate(const Backend& be,
   if (hd.cwiseAbs().maxCoeff() / nd > tol * (Scalar(1) + hx_.cwiseAbs().maxCoeff()))
     return false;
   return g.dot(dx_) / nd < -tol * (Scalar(1) + g.cwiseAbs().maxCoeff());
-}
-
-template <typename Scalar, int NV, int NA>
-template <typename Backend>
-QpStatus ActiveSetCore<Scalar, NV, NA>::solve(Backend& be, const QpSettings<Scalar>& s,
-                                              SolveInfo<Scalar>& info) {
-  info = SolveInfo<Scalar>{};
-  ARBOR_ASSERT(s.reg_primal > 0 && s.reg_dual > 0, "regularisations must be positive");
-  for (int i = 0; i < NV; ++i) {
-    if (!std::isfinite(x(i)) || !std::isfinite(lam_x(i))) {
-      cold_start();
-      break;
-    }
-  }
-  for (int i = 0; i < NA; ++i) {
-    if (!std::isfinite(lam_a(i))) {
-      cold_start();
-      break;
-    }
-  }
-  working_set_from_multipliers();
-  Scalar delta = s.reg_primal;
-  const Scalar w = Scalar(1) / s.reg_dual;
-  // row weights 1 / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
-  // small coefficients (a linearised path constraint) converge as fast as bounds
-  be.row_norms_sq(wa_);
-  for (int j = 0; j < NA; ++j)
-    wa_(j) = wa_(j) > 0 ? w / wa_(j) : w;
-  QpStatus status = QpStatus::iteration_limit;
-  bool refactor = true;
-  be.mark_all();
-  int pending = -1;                    // index of a pending change from the ratio test
-  std::int8_t pending_ws = kInactive;  // its next working-set state
-  Scalar best = inf();
-  bool have_best = false;
-  bool unbounded_candidate = false;
-  int certificate_count = 0;
-  bool refining = false;  // the previous iteration left the working set unchanged
-  Scalar pr_prev = inf();
-
-  for (int it = 0;; ++it) {
-    evaluate(be);
-    if (!std::isfinite(pr_) || !std::isfinite(du_)) {
-      status = QpStatus::non_finite;
-      break;
-    }
-    const Scalar merit =
-        std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
-                 co_ / (s.tol_comp * pr_scale_));
-    if (merit < best) {
-      best = merit;
-      have_best = true;
-      best_x_ = x;
-      best_lam_x_ = lam_x;
-      best_lam_a_ = lam_a;
-    }
-    if (merit <= 1) {
-      status = QpStatus::solved;
-      break;
-    }
-    if (unbounded_candidate && pr_ <= s.tol_primal) {
-      status = QpStatus::unbounded;
-      break;
-    }
-    unbounded_candidate = false;
-    // a certificate that holds on several consecutive iterates (transients do not count)
-    certificate_count = infeasibility_certificate(s) ? certificate_count + 1 : 0;
-    if (certificate_count >= 3) {
-      status = QpStatus::infeasible;
-      break;
-    }
-    if (it >= s.max_iter)
-      break;
-    info.iterations = it + 1;
-
-    // ---- at most one working-set change
-    int change = -1;
-    std::int8_t change_ws = kInactive;
-    if (pending >= 0) {
-      change = pending;
-      change_ws = pending_ws;
-    } else if (ipc_ >= 0 && pc_ > s.tol_primal && pc_ / s.tol_primal >= sd_ / s.tol_dual) {
-      change = ipc_;
-      change_ws = spc_;
-    } else if (isd_ >= 0 && sd_ > s.tol_dual) {
-      change = isd_;
-      change_ws = kInactive;
-    }
-    pending = -1;
-    bool changed = false;
-    if (change >= 0 && ws[change] != change_ws && ws[change] != kEquality) {
-      changed = true;
-      ws[change] = change_ws;
-      const bool had_multiplier = lam(change) != 0;
-      lam(change) = 0;
-      if (had_multiplier)
-        evaluate(be);  // r must not keep the dropped multiplier
-      be.mark_changed(change);
-      refactor = true;
-      ++info.active_set_changes;
-    }
-    if (refactor) {
-      for (;;) {
-        const int done = be.factorize(ws.data(), delta, w, wa_);
-        if (done >= 0) {
-          info.stages_factorized += done;
-          break;
-        }
-        delta *= Scalar(10);
-        ++info.regularization_bumps;
-        be.mark_all();
-        if (delta > s.reg_primal_max) {
-          status = QpStatus::non_convex;
-          break;
-        }
-      }
-      if (status == QpStatus::non_convex)
-        break;
-      ++info.factorizations;
-      refactor = false;
-    }
-
-    // ---- step to the regularised equality-constrained QP of the working set
-    tmpa_.setZero();
-    for (int j = 0; j < NA; ++j) {
-      if (ws[NV + j] != kInactive)
-        tmpa_(j) = wa_(j) * (za_(j) - target(NV + j));
-    }
-    be.cons_tmul(tmpa_, dx_);
-    dx_ = -(dx_ + r_);
-    for (int i = 0; i < NV; ++i) {
-      if (ws[i] != kInactive)
-        dx_(i) -= w * (x(i) - target(i));
-    }
-    be.solve(dx_);
-    be.cons_mul(dx_, dza_);
-    for (int i = 0; i < nz; ++i) {
-      const Scalar wi = i < NV ? w : wa_(i - NV);
-      const Scalar d = ws[i] != kInactive ? wi * (zval(i) - target(i) + dzval(i)) : -lam(i);
-      if (i < NV) {
-        dlam_x_(i) = d;
-      } else {
-        dlam_a_(i - NV) = d;
-      }
-    }
-
-    // ---- ratio test
-    Scalar tau = 1;
-    const Scalar e = std::max(s.tol_primal, pr_);
-    for (int i = 0; i < nz; ++i) {
-      const Scalar dz = dzval(i);
-      if (ws[i] == kInactive) {
-        if (dz > 0 && ub(i) < inf()) {
-          const Scalar t = std::max(Scalar(0), ub(i) + e - zval(i)) / dz;
-          if (t < tau) {
-            tau = t;
-            pending = i;
-            pending_ws = kUpper;
-          }
-        } else if (dz < 0 && lb(i) > -inf()) {
-          const Scalar t = std::min(Scalar(0), lb(i) - e - zval(i)) / dz;
-          if (t < tau) {
-            tau = t;
-            pending = i;
-            pending_ws = kLower;
-          }
-        }
-      } else if (ws[i] == kUpper || ws[i] == kLower) {
-        const Scalar m = lam(i) * ws[i], dm = dlam(i) * ws[i];
-        if (m > 0 && dm < 0) {
-          const Scalar t = m / -dm;
-          if (t < tau) {
-            tau = t;
-            pending = i;
-            pending_ws = kInactive;
-          }
-        }
-      }
-    }
-    // Stagnation on an unchanged working set: the primal error does not fall although full
-    // steps are taken, so the working set is (nearly) inconsistent and the multipliers drift
-    // along a null-space direction of A_W'. Follow that direction to the first active multiplier
-    // that reaches zero and drop its constraint (QRQP's singular step, in multiplier space).
-    Scalar tau_dual = tau;
-    if (tau == Scalar(1) && pending < 0 && !changed && refining && pr_ > s.tol_primal &&
-        pr_ > Scalar(0.5) * pr_prev) {
-      Scalar tmin = inf();
-      for (int i = 0; i < nz; ++i) {
-        if (ws[i] != kUpper && ws[i] != kLower)
-          continue;
-        const Scalar m = lam(i) * ws[i], dm = dlam(i) * ws[i];
-        if (m >= 0 && dm < 0 && m / -dm < tmin) {
-          tmin = m / -dm;
-          pending = i;
-          pending_ws = kInactive;
-        }
-      }
-      if (pending >= 0)
-        tau_dual = tmin > tau ? tmin : tau;
-    }
-    refining = !changed;
-    pr_prev = pr_;
-    x += tau * dx_;
-    lam_x += tau_dual * dlam_x_;
-    lam_a += tau_dual * dlam_a_;
-    if (pending >= 0 && pending_ws == kInactive)
-      lam(pending) = 0;
-    if (tau == Scalar(1) && delta * dx_.cwiseAbs().maxCoeff() > s.tol_dual &&
-        unboundedness_certificate(be, s)) {
-      unbounded_candidate = true;  // confirmed if the next iterate is primal feasible
-    }
-  }
-
-  if (status != QpStatus::solved && status != QpStatus::infeasible &&
-      status != QpStatus::unbounded && have_best) {
-    x = best_x_;
-    lam_x = best_lam_x_;
-    lam_a = best_lam_a_;
-    working_set_from_multipliers();
-    evaluate(be);
-  }
-  // explicit final check on the original data (residuals of the returned iterate)
-  info.primal_residual = pr_;
-  info.dual_residual = du_;
-  info.complementarity = co_;
-  info.objective = Scalar(0.5) * x.dot(hx_) + g.dot(x);
-  int na_ws = 0;
-  for (int i = 0; i < nz; ++i)
-    na_ws += ws[i] != kInactive ? 1 : 0;
-  info.active_constraints = na_ws;
-  if (status == QpStatus::solved &&
-      !(pr_ <= s.tol_primal * pr_scale_ && du_ <= s.tol_dual * du_scale_ &&
-        co_ <= s.tol_comp * pr_scale_)) {
-    status = QpStatus::iteration_limit;
-  }
-  return status;
 }
 
 }  // namespace arbor::qp::detail

@@ -1,5 +1,10 @@
-// arbor::qp: the optimal-control QP with stage structure (data only).
+// arbor::qp: the data of the two QP forms the solvers take (data only, no code): a dense QP of
+// fixed size (DenseQpProblem) and the optimal-control QP with stage structure (OcpQp).
 //
+// Dense:
+//   min 1/2 x'Hx + g'x   s.t.  lbx <= x <= ubx,  lba <= A x <= uba       (x in R^NV, A: NA x NV)
+//
+// Stage-structured:
 //   min  sum_{k<N} 1/2 [x_k;u_k]' [Q_k S_k'; S_k R_k] [x_k;u_k] + [q_k;r_k]'[x_k;u_k]
 //        + 1/2 x_N' Q_N x_N + q_N' x_N
 //   s.t. x_{k+1} = A_k x_k + B_k u_k + b_k                      k = 0..N-1
@@ -15,12 +20,33 @@
 //   rows       a = [dyn_0, gen_0, dyn_1, gen_1, ..., dyn_{N-1}, gen_{N-1}, gen_N]
 //              NA = N (NX+NG) + NGN,  dyn_k = x_{k+1} - A_k x_k - B_k u_k in [b_k, b_k],
 //              gen_k = C_k x_k + D_k u_k in [lg_k, ug_k].
+//
+// Copied or referenced (one rule for both solvers): setup(p) keeps a pointer to p, which must
+// outlive the solver's use of it.
+// - Vectors are copied: the gradients (g; q, r), the dynamics offsets b and every bound are read
+//   by setup() and update() into the solver's flat arrays. A change to them takes effect at the
+//   next update().
+// - Matrices are referenced: H, A; Q, S, R, A, B, C, D are read through the pointer by every
+//   solve() (never copied). A change to them takes effect at the next solve(), but only setup()
+//   and update() check them (finite, convex): after changing any data, call update().
 #pragma once
 
 #include <Eigen/Core>
 #include <array>
 
 namespace arbor::qp {
+
+/// Data of a dense QP (see the top of this file).
+template <typename Scalar, int NV, int NA>
+struct DenseQpProblem {
+  Eigen::Matrix<Scalar, NV, NV> H;   ///< symmetric positive semidefinite Hessian
+  Eigen::Matrix<Scalar, NV, 1> g;    ///< linear cost
+  Eigen::Matrix<Scalar, NA, NV> A;   ///< constraint matrix
+  Eigen::Matrix<Scalar, NV, 1> lbx;  ///< variable lower bounds (may be -inf)
+  Eigen::Matrix<Scalar, NV, 1> ubx;  ///< variable upper bounds (may be +inf)
+  Eigen::Matrix<Scalar, NA, 1> lba;  ///< row lower bounds (may be -inf)
+  Eigen::Matrix<Scalar, NA, 1> uba;  ///< row upper bounds (may be +inf)
+};
 
 /// One path stage k < N of an OcpQp.
 template <typename Scalar, int NX, int NU, int NG>

@@ -1,4 +1,5 @@
-// arbor::qp: solver settings with defaults per scalar type (double, float).
+// arbor::qp: solver settings with defaults per scalar type (double, float), and whether
+// setup()/update() check convexity (Convexity).
 //
 // Tolerances are relative: a residual passes when it is below tol * (1 + scale), with scale
 // |z|_inf = max(|x|_inf, |A x|_inf) for the primal and complementarity residuals and the largest
@@ -12,6 +13,25 @@
 #pragma once
 
 namespace arbor::qp {
+
+/// Whether setup()/update() verify that the Hessian (each stage block of an OcpQp) is positive
+/// semidefinite. The check is one Cholesky per block: about 12 % of a warm-started Kinova-sized
+/// solve (bench/qp/RESULTS.md).
+enum class Convexity : unsigned char {
+  checked,  ///< verify; a non-convex block makes the call return QpStatus::non_convex (default)
+  assumed,  ///< the caller guarantees convexity (e.g. Gauss-Newton Hessians): skip the check
+};
+
+/// Name of a Convexity value, for logs and test messages.
+constexpr const char* to_string(Convexity c) {
+  switch (c) {
+    case Convexity::checked:
+      return "checked";
+    case Convexity::assumed:
+      return "assumed";
+  }
+  return "unknown";
+}
 
 /// Settings of the active-set solvers.
 template <typename Scalar>

@@ -1,7 +1,9 @@
 // arbor::qp: solver statuses and the per-solve report shared by the dense and the OCP solvers.
 //
-// Every solve returns a QpStatus and fills a SolveInfo with the residuals of the returned iterate,
-// measured by an explicit final check on the original data (never on the working set):
+// setup() and update() return accepted or the reason the data were rejected (non_finite,
+// invalid_bounds, non_convex). Every solve returns a QpStatus and fills a SolveInfo with the
+// residuals of the returned iterate, measured by an explicit final check on the original data
+// (never on the working set):
 //   primal     max violation of bounds, constraints and dynamics,
 //   dual       max |H x + g + A' lam_a + lam_x| (stationarity of the Lagrangian),
 //   complementarity  max_i min(|lam_i|, distance of z_i to the bound that lam_i's sign selects).
@@ -9,21 +11,24 @@
 
 namespace arbor::qp {
 
-/// Outcome of setup() or solve().
+/// Outcome of setup(), update() or solve().
 enum class QpStatus : unsigned char {
-  solved,           ///< the final check passed: primal, dual and complementarity within tolerance
+  accepted,         ///< setup()/update(): the data passed the checks; solve() may run
+  solved,           ///< solve(): the final check passed (primal, dual, complementarity in tol.)
   iteration_limit,  ///< max_iter reached; the best iterate and its residuals are returned
   infeasible,       ///< a Farkas certificate (A' y = 0, support of the bounds < 0) was found
   unbounded,        ///< a direction of zero curvature and descent that no constraint blocks
   non_convex,       ///< a stage Hessian (or H) has a negative eigenvalue beyond round-off
   non_finite,       ///< NaN or infinite data (or iterate); bounds may be +-inf, never NaN
   invalid_bounds,   ///< some lower bound is above its upper bound, or lb = +inf / ub = -inf
-  not_setup,        ///< solve() before a successful setup()
+  not_setup,        ///< solve() when the last setup()/update() was not accepted (or none ran)
 };
 
 /// Short lowercase name of a status, for logs and test messages.
 constexpr const char* to_string(QpStatus s) {
   switch (s) {
+    case QpStatus::accepted:
+      return "accepted";
     case QpStatus::solved:
       return "solved";
     case QpStatus::iteration_limit:

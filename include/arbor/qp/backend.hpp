@@ -1,0 +1,51 @@
+// arbor::qp::detail: the interface between the active-set logic (active_set.hpp) and its linear
+// algebra (dense_backend.hpp, ocp_backend.hpp), written as a C++20 concept, and the working-set
+// states both sides read. Declarations only: no code runs here.
+//
+// A backend owns the factorization of M = H + delta I + A_W' E A_W (active_set.hpp) for the
+// working set W, and the products with the problem's H and A. Sizes are fixed at compile time
+// and no member may allocate.
+#pragma once
+
+#include <Eigen/Core>
+#include <concepts>
+#include <cstdint>
+
+namespace arbor::qp::detail {
+
+/// State of one constraint (a variable bound or a row) in the working set. The values of lower
+/// and upper are the signs their multipliers must have.
+enum class ConstraintState : std::int8_t {
+  inactive = 0,  ///< not in the working set; its multiplier is exactly 0
+  lower = -1,    ///< held at its lower bound (multiplier <= 0)
+  upper = 1,     ///< held at its upper bound (multiplier >= 0)
+  equality = 2,  ///< lower bound == upper bound: always active, multiplier of either sign
+};
+
+/// -1 for lower, +1 for upper (0 for inactive), as a Scalar.
+template <typename Scalar>
+constexpr Scalar side_sign(ConstraintState c) {
+  return Scalar(static_cast<std::int8_t>(c));
+}
+
+/// Linear algebra of the active-set method on a QP with NV variables and NA rows; z indices are
+/// flat: bounds 0..NV-1, then rows NV..NV+NA-1.
+template <typename B, typename Scalar, int NV, int NA>
+concept ActiveSetBackend = requires(B& b, const B& cb, const Eigen::Matrix<Scalar, NV, 1>& v,
+                                    Eigen::Matrix<Scalar, NV, 1>& v_out,
+                                    const Eigen::Matrix<Scalar, NA, 1>& a,
+                                    Eigen::Matrix<Scalar, NA, 1>& a_out, const ConstraintState* ws,
+                                    Scalar s, int i) {
+  cb.hess_mul(v, v_out);   // v_out = H v
+  cb.cons_mul(v, a_out);   // a_out = A v
+  cb.cons_tmul(a, v_out);  // v_out = A' a
+  cb.row_norms_sq(a_out);  // a_out_j = |a_j|^2
+  b.mark_changed(i);       // constraint i changed state: refactorize what it touches
+  b.mark_all();            // everything must be refactorized (new data, new delta)
+  // factorizes M for the working set ws[0..NV+NA) with delta, the bound weight w = 1/eps
+  // and the row weights a; returns the number of blocks factorized, -1 on a pivot failure
+  { b.factorize(ws, s, s, a) } -> std::same_as<int>;
+  cb.solve(v_out);  // v_out <- M^-1 v_out
+};
+
+}  // namespace arbor::qp::detail

@@ -1,0 +1,75 @@
+// arbor::qp::detail: what the dense and the OCP solvers share: the active-set core, a backend,
+// settings, the report of the last solve, and the life cycle setup/update -> solve. The two
+// solvers add only how their data are checked and copied (their setup() and update()).
+// Memory: sizeof(ActiveSetCore) + sizeof(Backend) + a few scalars.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "arbor/qp/active_set.hpp"
+#include "arbor/qp/backend.hpp"
+#include "arbor/qp/settings.hpp"
+#include "arbor/qp/status.hpp"
+
+namespace arbor::qp::detail {
+
+/// Active-set solver on NV variables and NA rows with the linear algebra of Backend.
+template <typename Scalar, int NV, int NA, typename Backend>
+class ActiveSetSolver {
+  static_assert(ActiveSetBackend<Backend, Scalar, NV, NA>,
+                "the backend must provide the interface of backend.hpp");
+
+ public:
+  static constexpr int nv = NV;  ///< variables
+  static constexpr int na = NA;  ///< constraint rows
+  using VecV = Eigen::Matrix<Scalar, NV, 1>;
+  using VecA = Eigen::Matrix<Scalar, NA, 1>;
+
+  /// Resets the iterate: x = projection of 0 onto the bounds, multipliers 0.
+  void cold_start() {
+    core_.cold_start();
+    initialized_ = true;
+  }
+
+  /// Solves from the current iterate (warm start: the last solution, or values written through
+  /// x(), lam_x(), lam_a()); not_setup unless the last setup()/update() was accepted.
+  [[nodiscard]] QpStatus solve() {
+    if (!ready_)
+      return QpStatus::not_setup;
+    return core_.solve(be_, settings_, info_);
+  }
+
+  /// Flat primal iterate / solution (writable: a warm start).
+  VecV& x() { return core_.x; }
+  const VecV& x() const { return core_.x; }
+  /// Multipliers of the variable bounds (> 0: upper bound active, < 0: lower bound active).
+  VecV& lam_x() { return core_.lam_x; }
+  const VecV& lam_x() const { return core_.lam_x; }
+  /// Multipliers of the rows (same sign convention); stationarity: H x + g + lam_x + A' lam_a = 0.
+  VecA& lam_a() { return core_.lam_a; }
+  const VecA& lam_a() const { return core_.lam_a; }
+  /// Report of the last solve.
+  const SolveInfo<Scalar>& info() const { return info_; }
+  /// Settings in use (may be changed between solves).
+  QpSettings<Scalar>& settings() { return settings_; }
+  const QpSettings<Scalar>& settings() const { return settings_; }
+
+ protected:
+  /// Ends a setup()/update(): the solver is ready exactly when st is accepted; the iterate is
+  /// cold-started the first time, kept (warm start) afterwards.
+  QpStatus conclude(QpStatus st) {
+    ready_ = st == QpStatus::accepted;
+    if (ready_ && !initialized_)
+      cold_start();
+    return st;
+  }
+
+  ActiveSetCore<Scalar, NV, NA> core_;  ///< iterate, copied vectors and active-set workspace
+  Backend be_;                          ///< factorization; points to the problem's matrices
+  QpSettings<Scalar> settings_{};       ///< settings of the next solve
+  SolveInfo<Scalar> info_{};            ///< report of the last solve
+  bool ready_ = false;                  ///< the last setup()/update() was accepted
+  bool initialized_ = false;            ///< the iterate holds values
+};
+
+}  // namespace arbor::qp::detail
