@@ -1,0 +1,433 @@
+// The real-time-iteration interface of the QP solvers: update() against a fresh setup of the
+// changed data (and without the convexity check when convexity is assumed), per-stage views
+// against the stacked solution and the stage-wise KKT conditions written out here, shift()
+// against a hand-shifted solution, a shifted warm start against cold starts (iteration counts),
+// and the copy/reference rule of problem.hpp (copied vectors are seen after update(), referenced
+// matrices at the next solve()). References: the KKT residuals of qp_reference.hpp (dynamic
+// Eigen) and a second solver set up from scratch on a copy of the data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "alloc_guard.hpp"
+#include "arbor/qp/dense_qp_solver.hpp"
+#include "arbor/qp/ocp_qp_solver.hpp"
+#include "qp_reference.hpp"
+#include "status_names.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
+
+namespace {
+using arbor::qp::Convexity;
+using arbor::qp::DenseQpProblem;
+using arbor::qp::DenseQpSolver;
+using arbor::qp::OcpQp;
+using arbor::qp::OcpQpSolver;
+using arbor::qp::QpStatus;
+namespace t = arbor::qp::test;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+constexpr int N = 8, NX = 4, NU = 2, NG = 1, NGN = 1;
+using Qp = OcpQp<double, N, NX, NU, NG, NGN>;
+constexpr int NW = NX + NU;  // variables per path stage, written out here (not Qp::nw)
+constexpr int NR = NX + NG;  // rows per path stage
+
+/// Solves a copy of qp from scratch (setup with the convexity check, cold start).
+Eigen::VectorXd fresh_solution(const Qp& qp) {
+  static Qp copy;
+  static OcpQpSolver<Qp> fresh;
+  copy = qp;
+  QpStatus su, st;
+  {
+    arbor::test::NoAllocScope guard;
+    su = fresh.setup(copy);
+    fresh.cold_start();
+    st = fresh.solve();
+  }
+  EXPECT_EQ(su, QpStatus::accepted);
+  EXPECT_EQ(st, QpStatus::solved);
+  return fresh.x();
+}
+
+/// Checks the KKT conditions of the solver's point on qp's data, with the tests' tolerances.
+void expect_kkt(const Qp& qp, const OcpQpSolver<Qp>& s) {
+  const t::Kkt k = t::kkt_residuals(t::to_ref(qp), s.x(), s.lam_x(), s.lam_a());
+  EXPECT_LE(k.primal, 1e-7 * k.pscale);
+  EXPECT_LE(k.dual, 1e-7 * k.dscale);
+  EXPECT_LE(k.complementarity, 1e-7 * k.pscale);
+}
+
+double max_diff(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return (a - b).cwiseAbs().maxCoeff();
+}
+
+TEST(QpRealtime, UpdateMatchesFreshSetupOfTheChangedData) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  for (const Convexity c : {Convexity::checked, Convexity::assumed}) {
+    SCOPED_TRACE(to_string(c));
+    std::mt19937 rng(31);
+    t::random_ocp(qp, rng);
+    QpStatus su, s0, su2, s1;
+    {
+      arbor::test::NoAllocScope guard;
+      su = solver.setup(qp);
+      solver.cold_start();
+      s0 = solver.solve();
+    }
+    ASSERT_EQ(su, QpStatus::accepted);
+    ASSERT_EQ(s0, QpStatus::solved);
+    // new data in the same object: every matrix and vector changes (a relinearisation)
+    std::mt19937 rng2(32);
+    t::random_ocp(qp, rng2);
+    {
+      arbor::test::NoAllocScope guard;
+      su2 = solver.update(c);
+      s1 = solver.solve();
+    }
+    ASSERT_EQ(su2, QpStatus::accepted);
+    ASSERT_EQ(s1, QpStatus::solved);
+    expect_kkt(qp, solver);
+    const Eigen::VectorXd ref = fresh_solution(qp);
+    const t::Kkt k = t::kkt_residuals(t::to_ref(qp), solver.x(), solver.lam_x(), solver.lam_a());
+    EXPECT_LE(max_diff(solver.x(), ref), 1e-6 * k.pscale);  // strictly convex: one minimiser
+  }
+}
+
+TEST(QpRealtime, AssumedConvexitySkipsOnlyTheConvexityCheck) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(41);
+  t::random_ocp(qp, rng);
+  QpStatus su, checked, after_checked, assumed, nan_assumed, bounds_assumed;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    qp.stage[3].R(0, 0) = -1;  // indefinite stage Hessian
+    checked = solver.update(Convexity::checked);
+    after_checked = solver.solve();
+    assumed = solver.update(Convexity::assumed);  // the caller's word is taken
+    qp.stage[5].A(1, 0) = std::numeric_limits<double>::quiet_NaN();
+    nan_assumed = solver.update(Convexity::assumed);
+    qp.stage[5].A(1, 0) = 0;
+    qp.terminal.lbx(0) = qp.terminal.ubx(0) + 1;
+    bounds_assumed = solver.update(Convexity::assumed);
+  }
+  EXPECT_EQ(su, QpStatus::accepted);
+  EXPECT_EQ(checked, QpStatus::non_convex);
+  EXPECT_EQ(after_checked, QpStatus::not_setup);
+  EXPECT_EQ(assumed, QpStatus::accepted);
+  EXPECT_EQ(nan_assumed, QpStatus::non_finite);
+  EXPECT_EQ(bounds_assumed, QpStatus::invalid_bounds);
+
+  static DenseQpProblem<double, 2, 1> p;
+  static DenseQpSolver<double, 2, 1> dense;
+  p.H << 1, 0, 0, -1;
+  p.g << 0, 0;
+  p.A << 1, 1;
+  p.lbx << -1, -1;
+  p.ubx << 1, 1;
+  p.lba << -kInf;
+  p.uba << 1;
+  QpStatus d_setup, d_assumed;
+  {
+    arbor::test::NoAllocScope guard;
+    d_setup = dense.setup(p);
+    d_assumed = dense.update(Convexity::assumed);
+  }
+  EXPECT_EQ(d_setup, QpStatus::non_convex);
+  EXPECT_EQ(d_assumed, QpStatus::accepted);
+}
+
+TEST(QpRealtime, PerStageViewsMatchTheStackedSolutionAndTheStageKkt) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(51);
+  t::RandomOcpOptions opt;
+  opt.bound_width = 0.3;  // many active bounds: nonzero bound multipliers
+  opt.cost_scale = 10;
+  t::random_ocp(qp, rng, opt);
+  QpStatus su, st;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    solver.cold_start();
+    st = solver.solve();
+  }
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(st, QpStatus::solved);
+  const Eigen::VectorXd x = solver.x(), lx = solver.lam_x(), la = solver.lam_a();
+  // layout of problem.hpp, written out: v = [x_0 u_0 ... x_N], rows = [dyn_0 gen_0 ... gen_N]
+  for (int k = 0; k <= N; ++k) {
+    EXPECT_EQ(Eigen::VectorXd(solver.state(k)), x.segment(k * NW, NX)) << "k " << k;
+    EXPECT_EQ(Eigen::VectorXd(solver.state_bound_multiplier(k)), lx.segment(k * NW, NX));
+  }
+  for (int k = 0; k < N; ++k) {
+    EXPECT_EQ(Eigen::VectorXd(solver.input(k)), x.segment(k * NW + NX, NU)) << "k " << k;
+    EXPECT_EQ(Eigen::VectorXd(solver.input_bound_multiplier(k)), lx.segment(k * NW + NX, NU));
+    EXPECT_EQ(Eigen::VectorXd(solver.dynamics_multiplier(k)), la.segment(k * NR, NX));
+    EXPECT_EQ(Eigen::VectorXd(solver.constraint_multiplier(k)), la.segment(k * NR + NX, NG));
+  }
+  EXPECT_EQ(Eigen::VectorXd(solver.terminal_constraint_multiplier()), la.tail(NGN));
+  EXPECT_GT(lx.cwiseAbs().maxCoeff(), 1e-3);  // the check below sees bound multipliers
+
+  // stage-wise KKT conditions from the views, written from the problem statement:
+  //   x_k: Q x + S'u + q + lam_x - A' pi_k + pi_{k-1} + C' mu_k = 0,
+  //   u_k: S x + R u + r + lam_u - B' pi_k + D' mu_k = 0,
+  //   x_N: Q_N x + q_N + lam_x + pi_{N-1} + C_N' mu_N = 0,  x_{k+1} = A x_k + B u_k + b.
+  const t::Kkt kkt = t::kkt_residuals(t::to_ref(qp), x, lx, la);
+  double dual = 0, dyn = 0;
+  for (int k = 0; k < N; ++k) {
+    const auto& s = qp.stage[k];
+    Eigen::Matrix<double, NX, 1> gx = s.Q * solver.state(k) + s.S.transpose() * solver.input(k) +
+                                      s.q + solver.state_bound_multiplier(k) -
+                                      s.A.transpose() * solver.dynamics_multiplier(k) +
+                                      s.C.transpose() * solver.constraint_multiplier(k);
+    if (k > 0)
+      gx += solver.dynamics_multiplier(k - 1);
+    const Eigen::Matrix<double, NU, 1> gu = s.S * solver.state(k) + s.R * solver.input(k) + s.r +
+                                            solver.input_bound_multiplier(k) -
+                                            s.B.transpose() * solver.dynamics_multiplier(k) +
+                                            s.D.transpose() * solver.constraint_multiplier(k);
+    dual = std::max({dual, gx.cwiseAbs().maxCoeff(), gu.cwiseAbs().maxCoeff()});
+    const Eigen::Matrix<double, NX, 1> e =
+        solver.state(k + 1) - (s.A * solver.state(k) + s.B * solver.input(k) + s.b);
+    dyn = std::max(dyn, e.cwiseAbs().maxCoeff());
+  }
+  const auto& tm = qp.terminal;
+  const Eigen::Matrix<double, NX, 1> gN =
+      tm.Q * solver.state(N) + tm.q + solver.state_bound_multiplier(N) +
+      solver.dynamics_multiplier(N - 1) +
+      tm.C.transpose() * solver.terminal_constraint_multiplier();
+  dual = std::max(dual, gN.cwiseAbs().maxCoeff());
+  EXPECT_LE(dual, 1e-7 * kkt.dscale);
+  EXPECT_LE(dyn, 1e-7 * kkt.pscale);
+}
+
+TEST(QpRealtime, ShiftMovesTheSolutionOneStageEarlier) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(61);
+  t::RandomOcpOptions opt;
+  opt.bound_width = 0.3;
+  opt.cost_scale = 10;
+  t::random_ocp(qp, rng, opt);
+  QpStatus su, st;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    solver.cold_start();
+    st = solver.solve();
+  }
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(st, QpStatus::solved);
+  const Eigen::VectorXd x = solver.x(), lx = solver.lam_x(), la = solver.lam_a();
+  // by hand: stage k takes stage k+1; x_{N-1} takes x_N; the last stage keeps its values
+  Eigen::VectorXd ex = x, elx = lx, ela = la;
+  for (int k = 0; k + 1 < N; ++k) {
+    ex.segment(k * NW, NW) = x.segment((k + 1) * NW, NW);
+    elx.segment(k * NW, NW) = lx.segment((k + 1) * NW, NW);
+    ela.segment(k * NR, NR) = la.segment((k + 1) * NR, NR);
+  }
+  ex.segment((N - 1) * NW, NX) = x.tail(NX);
+  elx.segment((N - 1) * NW, NX) = lx.tail(NX);
+  {
+    arbor::test::NoAllocScope guard;
+    solver.shift();
+  }
+  EXPECT_EQ(Eigen::VectorXd(solver.x()), ex);
+  EXPECT_EQ(Eigen::VectorXd(solver.lam_x()), elx);
+  EXPECT_EQ(Eigen::VectorXd(solver.lam_a()), ela);
+  // the same through the per-stage views
+  for (int k = 0; k < N; ++k)
+    EXPECT_EQ(Eigen::VectorXd(solver.state(k)), x.segment((k + 1) * NW, NX)) << "k " << k;
+  EXPECT_EQ(Eigen::VectorXd(solver.state(N)), x.tail(NX));
+  EXPECT_EQ(Eigen::VectorXd(solver.input(N - 2)), x.segment((N - 1) * NW + NX, NU));
+  EXPECT_EQ(Eigen::VectorXd(solver.input(N - 1)), x.segment((N - 1) * NW + NX, NU));
+}
+
+/// Time-invariant OCP: two double integrators (positions, velocities; accelerations as inputs)
+/// steered to a target outside a velocity and acceleration box, with a bounded position sum.
+using TiQp = OcpQp<double, 16, 4, 2, 1, 1>;
+
+void make_time_invariant(TiQp& qp, const Eigen::Vector4d& x0) {
+  constexpr double dt = 0.1;
+  const Eigen::Vector4d xref(1.0, -0.6, 0.0, 0.0);
+  for (auto& s : qp.stage) {
+    s.A.setIdentity();
+    s.A(0, 2) = s.A(1, 3) = dt;
+    s.B << 0.5 * dt * dt, 0, 0, 0.5 * dt * dt, dt, 0, 0, dt;
+    s.b.setZero();
+    s.Q = Eigen::Vector4d(10, 10, 1, 1).asDiagonal();
+    s.S.setZero();
+    s.R = 0.1 * Eigen::Matrix2d::Identity();
+    s.q = -(s.Q * xref);
+    s.r.setZero();
+    s.lbx << -kInf, -kInf, -0.5, -0.5;
+    s.ubx << kInf, kInf, 0.5, 0.5;
+    s.lbu << -1, -1;
+    s.ubu << 1, 1;
+    s.C << 1, 1, 0, 0;  // p1 + p2 <= 0.3
+    s.D.setZero();
+    s.lg << -kInf;
+    s.ug << 0.3;
+  }
+  qp.stage[0].lbx = qp.stage[0].ubx = x0;
+  auto& tm = qp.terminal;
+  tm.Q = qp.stage[0].Q;
+  tm.q = qp.stage[0].q;
+  tm.C = qp.stage[0].C;
+  tm.lg = qp.stage[0].lg;
+  tm.ug = qp.stage[0].ug;
+  tm.lbx = qp.stage[1].lbx;
+  tm.ubx = qp.stage[1].ubx;
+}
+
+TEST(QpRealtime, ShiftedWarmStartNeedsFewerIterationsThanCold) {
+  static TiQp qp;
+  static OcpQpSolver<TiQp> solver;
+  static OcpQpSolver<TiQp> cold;  // a second solver: cold starts on the same data
+  Eigen::Vector4d x0 = Eigen::Vector4d::Zero();
+  make_time_invariant(qp, x0);
+  QpStatus su, st;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    solver.cold_start();
+    st = solver.solve();
+  }
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(st, QpStatus::solved);
+  for (int sample = 1; sample <= 5; ++sample) {
+    SCOPED_TRACE(::testing::Message() << "sample " << sample);
+    x0 = solver.state(1);  // the plant follows the prediction
+    qp.stage[0].lbx = qp.stage[0].ubx = x0;
+    QpStatus uw, sw, uc, sc;
+    {
+      arbor::test::NoAllocScope guard;
+      solver.shift();
+      uw = solver.update(Convexity::assumed);
+      sw = solver.solve();
+      uc = cold.setup(qp);
+      cold.cold_start();
+      sc = cold.solve();
+    }
+    ASSERT_EQ(uw, QpStatus::accepted);
+    ASSERT_EQ(uc, QpStatus::accepted);
+    ASSERT_EQ(sw, QpStatus::solved);
+    ASSERT_EQ(sc, QpStatus::solved);
+    const int warm = solver.info().iterations, cold_it = cold.info().iterations;
+    RecordProperty("warm_iterations_" + std::to_string(sample), warm);
+    RecordProperty("cold_iterations_" + std::to_string(sample), cold_it);
+    EXPECT_GE(cold_it, 10);  // the constraints matter
+    EXPECT_LE(4 * warm, cold_it) << "warm " << warm << " cold " << cold_it;
+    const t::Kkt k = t::kkt_residuals(t::to_ref(qp), solver.x(), solver.lam_x(), solver.lam_a());
+    EXPECT_LE(max_diff(solver.x(), cold.x()), 1e-6 * k.pscale);  // strictly convex
+  }
+}
+
+TEST(QpRealtime, CopiedVectorsAreSeenAfterUpdateReferencedMatricesAtTheNextSolve) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(71);
+  t::random_ocp(qp, rng);
+  QpStatus su, st;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    solver.cold_start();
+    st = solver.solve();
+  }
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(st, QpStatus::solved);
+  const Eigen::VectorXd x_before = solver.x();
+  const double scale = 1 + x_before.cwiseAbs().maxCoeff();
+
+  // copied: a gradient and a dynamics offset change; solve() without update() still solves the
+  // old data
+  qp.stage[2].q(0) += 5;
+  qp.stage[4].b(1) += 0.3;
+  QpStatus s_stale, u_new, s_new;
+  {
+    arbor::test::NoAllocScope guard;
+    s_stale = solver.solve();
+  }
+  ASSERT_EQ(s_stale, QpStatus::solved);
+  EXPECT_LE(max_diff(solver.x(), x_before), 1e-9 * scale);
+  {
+    arbor::test::NoAllocScope guard;
+    u_new = solver.update();
+    s_new = solver.solve();
+  }
+  ASSERT_EQ(u_new, QpStatus::accepted);
+  ASSERT_EQ(s_new, QpStatus::solved);
+  const Eigen::VectorXd x_copied = fresh_solution(qp);
+  EXPECT_GT(max_diff(x_copied, x_before), 1e-3);  // the change matters
+  EXPECT_LE(max_diff(solver.x(), x_copied), 1e-6 * scale);
+
+  // referenced: a Hessian and a dynamics matrix change (still convex); the next solve() sees
+  // them without update()
+  qp.stage[3].Q *= 3;
+  qp.stage[1].B(0, 0) += 0.5;
+  QpStatus s_ref;
+  {
+    arbor::test::NoAllocScope guard;
+    s_ref = solver.solve();
+  }
+  ASSERT_EQ(s_ref, QpStatus::solved);
+  const Eigen::VectorXd x_referenced = fresh_solution(qp);
+  EXPECT_GT(max_diff(x_referenced, x_copied), 1e-3);
+  EXPECT_LE(max_diff(solver.x(), x_referenced), 1e-6 * scale);
+  expect_kkt(qp, solver);
+}
+
+TEST(QpRealtime, DenseSolverFollowsTheSameRule) {
+  // min 1/2 |x|^2 + g'x in a box: x = clamp(-g). g is copied, H is referenced.
+  static DenseQpProblem<double, 2, 1> p;
+  static DenseQpSolver<double, 2, 1> s;
+  p.H.setIdentity();
+  p.g << -0.5, 0.25;
+  p.A << 1, 1;
+  p.lbx << -1, -1;
+  p.ubx << 1, 1;
+  p.lba << -kInf;
+  p.uba << kInf;
+  QpStatus su, s1, s2, uu, s3, s4;
+  Eigen::Vector2d x1, x2, x3, x4;
+  {
+    arbor::test::NoAllocScope guard;
+    su = s.setup(p);
+    s.cold_start();
+    s1 = s.solve();
+    x1 = s.x();
+    p.g << -2, 0.25;  // copied: not seen before update()
+    s2 = s.solve();
+    x2 = s.x();
+    uu = s.update();
+    s3 = s.solve();
+    x3 = s.x();
+    p.H(1, 1) = 0.5;  // referenced: seen by the next solve()
+    s4 = s.solve();
+    x4 = s.x();
+  }
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(s1, QpStatus::solved);
+  ASSERT_EQ(s2, QpStatus::solved);
+  ASSERT_EQ(uu, QpStatus::accepted);
+  ASSERT_EQ(s3, QpStatus::solved);
+  ASSERT_EQ(s4, QpStatus::solved);
+  EXPECT_NEAR(x1(0), 0.5, 1e-8);
+  EXPECT_NEAR(x1(1), -0.25, 1e-8);
+  EXPECT_NEAR(x2(0), 0.5, 1e-8);
+  EXPECT_NEAR(x3(0), 1.0, 1e-8);  // clamp(2) = 1
+  EXPECT_NEAR(x3(1), -0.25, 1e-8);
+  EXPECT_NEAR(x4(0), 1.0, 1e-8);
+  EXPECT_NEAR(x4(1), -0.5, 1e-8);  // 0.5 x = -0.25
+}
+
+}  // namespace
