@@ -156,10 +156,7 @@ void non_finite() {
 // u_k = -x_N for every k and x_N = 1 + 3 u, so u = -1/4 and x_N = 1/4. With |u| <= 0.2 the
 // bound is active at every stage: u = -0.2 and x_N = 0.4.
 template <class S>
-void ocp_one_dimensional(bool bounded) {
-  using Qp = OcpQp<S, 3, 1, 1, 0, 0>;
-  static Qp qp;
-  static OcpQpSolver<Qp> solver;
+void fill_one_dimensional(OcpQp<S, 3, 1, 1, 0, 0>& qp, bool bounded) {
   for (auto& s : qp.stage) {
     s.Q.setZero();
     s.S.setZero();
@@ -180,6 +177,14 @@ void ocp_one_dimensional(bool bounded) {
   qp.terminal.q.setZero();
   qp.terminal.lbx << -inf<S>();
   qp.terminal.ubx << inf<S>();
+}
+
+template <class S>
+void ocp_one_dimensional(bool bounded) {
+  using Qp = OcpQp<S, 3, 1, 1, 0, 0>;
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  fill_one_dimensional(qp, bounded);
   arbor::test::NoAllocScope guard;
   solver.cold_start();
   ASSERT_EQ(solver.setup(qp), QpStatus::accepted);
@@ -190,6 +195,48 @@ void ocp_one_dimensional(bool bounded) {
     EXPECT_NEAR(solver.state(k)(0), 1.0 + k * u, tol<S>());
   }
   EXPECT_NEAR(solver.state(3)(0), 1.0 + 3 * u, tol<S>());
+}
+
+// The real-time path on the same OCP: tighter input bounds |u| <= 0.1 through update() without
+// the convexity check give u = -0.1, x = (1, 0.9, 0.8, 0.7); shift() moves that solution one
+// stage (the last stage repeats); with x_0 = 0.9 (the plant followed the prediction) the
+// unconstrained optimum u = -x_N, x_N = 0.9 + 3 u = 0.225 is again cut to u = -0.1:
+// x = (0.9, 0.8, 0.7, 0.6).
+template <class S>
+void ocp_update_and_shift() {
+  using Qp = OcpQp<S, 3, 1, 1, 0, 0>;
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  fill_one_dimensional(qp, false);
+  // the states add up the dynamics residuals of the stages before them: solve 10x tighter
+  arbor::qp::QpSettings<S> settings;
+  settings.tol_primal = settings.tol_dual = settings.tol_comp = S(tol<S>() / 10);
+  arbor::test::NoAllocScope guard;
+  ASSERT_EQ(solver.setup(qp, settings), QpStatus::accepted);
+  solver.cold_start();
+  ASSERT_EQ(solver.solve(), QpStatus::solved);
+  EXPECT_NEAR(solver.input(0)(0), -0.25, tol<S>());
+  for (auto& s : qp.stage) {
+    s.lbu << S(-0.1);
+    s.ubu << S(0.1);
+  }
+  ASSERT_EQ(solver.update(arbor::qp::Convexity::assumed), QpStatus::accepted);
+  ASSERT_EQ(solver.solve(), QpStatus::solved);
+  for (int k = 0; k <= 3; ++k)
+    EXPECT_NEAR(solver.state(k)(0), 1.0 - 0.1 * k, tol<S>());
+  solver.shift();
+  EXPECT_NEAR(solver.state(0)(0), 0.9, tol<S>());
+  EXPECT_NEAR(solver.state(2)(0), 0.7, tol<S>());
+  EXPECT_NEAR(solver.state(3)(0), 0.7, tol<S>());  // the last stage repeats
+  EXPECT_NEAR(solver.input(2)(0), -0.1, tol<S>());
+  qp.stage[0].lbx << S(0.9);
+  qp.stage[0].ubx << S(0.9);
+  ASSERT_EQ(solver.update(arbor::qp::Convexity::assumed), QpStatus::accepted);
+  ASSERT_EQ(solver.solve(), QpStatus::solved);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(solver.input(k)(0), -0.1, tol<S>());
+  for (int k = 0; k <= 3; ++k)
+    EXPECT_NEAR(solver.state(k)(0), 0.9 - 0.1 * k, tol<S>());
 }
 
 TEST(QpPortable, Casadi3141Double) {
@@ -239,6 +286,13 @@ TEST(QpPortable, OcpInputBoundActiveDouble) {
 }
 TEST(QpPortable, OcpInputBoundActiveFloat) {
   ocp_one_dimensional<float>(true);
+}
+
+TEST(QpPortable, OcpUpdateAndShiftDouble) {
+  ocp_update_and_shift<double>();
+}
+TEST(QpPortable, OcpUpdateAndShiftFloat) {
+  ocp_update_and_shift<float>();
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ bool all_finite(const Mats&... m) {
 /// Checks bounds: no NaN, lb <= ub, lb < +inf, ub > -inf. Returns accepted, non_finite or
 /// invalid_bounds.
 template <typename Vec>
-QpStatus check_bounds(const Vec& lb, const Vec& ub) {
+[[nodiscard]] QpStatus check_bounds(const Vec& lb, const Vec& ub) {
   using Scalar = typename Vec::Scalar;
   constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
   for (int i = 0; i < lb.size(); ++i) {
