@@ -1,11 +1,18 @@
-// arbor: products with compile-time constant 3x3 matrices and 3-vectors, with structurally zero
+// arbor: products with compile-time constant matrices and vectors, with structurally zero
 // terms removed and +-1 factors turned into additions/subtractions by the templates themselves
 // (`if constexpr` on the constexpr entries). Without -ffast-math a compiler may not fold x * 0.0
 // for doubles, so this is where the generated robot data turns into fewer instructions.
+// Cost: one multiplication per entry other than 0 and +-1, one addition per further nonzero
+// term of a row; nothing at run time for the rest.
 //
 // A constant matrix is a type K with `static constexpr double at(int r, int c)`; a constant
-// vector is a type V with `static constexpr double at(int i)`.
+// vector is a type V with `static constexpr double at(int i)`. One engine serves the 3x3
+// products of the RBD code (dot3, row, mul, mul_rows, mul_cols, mat_cvec, cross) and the K x
+// products of any size of the expression layer (row_n, ad/expr/constant_matrix.hpp): scaled and
+// add_scaled decide what one term costs (for both), dot3 sums three terms and dot_n any number.
 #pragma once
+
+#include <utility>
 
 #include "arbor/core/config.hpp"
 #include "arbor/model/types.hpp"
@@ -35,7 +42,10 @@ struct Neg {
   static constexpr double v = -E::v;
 };
 
-/// x scaled by the constant E::v (x, -x or S(k) * x).
+/// x scaled by the constant E::v (x, -x or x * S(k)). S is the type the constant is converted to
+/// for the product: the scalar itself (the RBD code), or a coefficient type whose product with x
+/// is defined for it (the expression layer's detail::Coefficient: each component of a dual times
+/// a plain number).
 template <class S, class E, class T>
 ARBOR_INLINE T scaled(const T& x) {
   if constexpr (E::v == 1.0)
@@ -59,7 +69,25 @@ ARBOR_INLINE void add_scaled(T& acc, const T& x) {
   }
 }
 
-/// sum_k E_k::v * x_k over three terms; Zero when all constants are zero.
+/// sum_k E_k::v * x_k over any number of terms (constants E, Es..., values x, xs...), starting
+/// from the first nonzero term (no addition to 0); zero() when every constant is zero.
+template <class S, class E, class... Es, class Z, class T, class... Xs>
+ARBOR_INLINE T dot_n(Z zero, const T& x, const Xs&... xs) {
+  static_assert(sizeof...(Es) == sizeof...(Xs), "dot_n: one constant per term");
+  if constexpr (E::v != 0.0) {
+    T acc = scaled<S, E>(x);
+    (add_scaled<S, Es>(acc, xs), ...);
+    return acc;
+  } else if constexpr (sizeof...(Es) == 0) {
+    return zero();
+  } else {
+    return dot_n<S, Es...>(zero, xs...);
+  }
+}
+
+/// sum_k E_k::v * x_k over three terms; Zero when all constants are zero. The three-term case of
+/// dot_n, written out: routing it through dot_n gives the same operations but changes GCC 12's
+/// inlining decisions in the RBD algorithms (different object code), so it stays as tuned.
 template <class S, class E0, class E1, class E2, class T, class Z>
 ARBOR_INLINE T dot3(const T& x0, const T& x1, const T& x2, Z zero) {
   if constexpr (E0::v != 0.0) {
@@ -106,6 +134,13 @@ constexpr bool is_zero_vec() {
 template <class S, class K, int r, class T, class Z>
 ARBOR_INLINE T row(const T& x0, const T& x1, const T& x2, Z zero) {
   return dot3<S, Entry<K, r, 0>, Entry<K, r, 1>, Entry<K, r, 2>>(x0, x1, x2, zero);
+}
+
+/// Row r of a constant matrix K of any size times x[0], ..., x[C - 1] (x indexable by int;
+/// C = sizeof...(c)): `row_n<S, K, r>(x, zero, std::make_integer_sequence<int, C>{})`.
+template <class S, class K, int r, class X, class Z, int... c>
+ARBOR_INLINE auto row_n(const X& x, Z zero, std::integer_sequence<int, c...>) {
+  return dot_n<S, Entry<K, r, c>...>(zero, x[c]...);
 }
 
 /// K * x for a 3-vector x.
