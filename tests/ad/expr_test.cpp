@@ -9,16 +9,17 @@
 
 #include <algorithm>
 #include <arbor/ad/expr.hpp>
-#include "op_count.hpp"
 #include <arbor/ad/rbd_functions.hpp>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <robots/double_pendulum.hpp>
 #include <robots/kinova_gen3.hpp>
+#include <type_traits>
 
 #include "../dynamics/check_helpers.hpp"
 #include "alloc_guard.hpp"
+#include "op_count.hpp"
 
 namespace {
 
@@ -570,6 +571,93 @@ TEST_F(ExprRk4, SharedStagesAreEvaluatedOnce) {
   EXPECT_EQ(with_let, 4u);
   EXPECT_EQ(with_fn, 4u);
   EXPECT_EQ(naive, 58u);
+}
+
+// ---- custom-derivative nodes: the function object is an instance (a handle) ---------------------
+
+/// A probe provider tag (the node passes Tag through to the function object).
+struct ProbeTag {};
+
+/// What the handle below records in caller-owned storage.
+struct ProbeLog {
+  double gain = 1.0;            // the function's parameter
+  int value_calls = 0;          // value<T> calls
+  int jacobian_calls = 0;       // value_and_jacobian<ProbeTag, T> calls
+  int dual_jacobian_calls = 0;  // of those, at a Dual T (a Hessian evaluation)
+};
+
+/// y = gain * sin(x) (elementwise, 2-vectors) with its Jacobian diag(gain * cos(x)): a handle
+/// holding a pointer to caller-owned state, as the RBD function objects bound to a workspace.
+struct ScaledSine {
+  static constexpr int nin = 2;
+  static constexpr int nout = 2;
+  ProbeLog* log;
+  template <class T>
+  void value(const arbor::VecN<T, 2>& x, arbor::VecN<T, 2>& y) const {
+    ++log->value_calls;
+    for (int i = 0; i < 2; ++i)
+      y[i] = T(log->gain) * arbor::sin(x[i]);
+  }
+  template <class Tag, class T>
+  void value_and_jacobian(const arbor::VecN<T, 2>& x, arbor::VecN<T, 2>& y,
+                          Eigen::Matrix<T, 2, 2>& J) const {
+    static_assert(std::is_same_v<Tag, ProbeTag>);
+    ++log->jacobian_calls;
+    if constexpr (ad::is_dual_v<T>)
+      ++log->dual_jacobian_calls;
+    for (int i = 0; i < 2; ++i) {
+      y[i] = T(log->gain) * arbor::sin(x[i]);
+      J(i, i) = T(log->gain) * arbor::cos(x[i]);
+    }
+  }
+};
+
+TEST(ExprCall, CallsThroughTheStoredHandle) {
+  // the node keeps a copy of the handle: state changed through the caller's pointer after the
+  // expression is built is seen by every evaluation; value() serves plain evaluations and
+  // value_and_jacobian<Tag, T>() derivatives (once, the value from the same pass), at T = Dual
+  // for Hessians. References: closed forms of g sin(x).
+  constexpr ad::Symbol<0, 2> x;
+  const Vec<2> xv(0.3, -1.1);
+  ProbeLog log;
+  const auto e = ad::call<ProbeTag>(ScaledSine{&log}, x);
+  const auto chained = ad::call<ProbeTag>(ScaledSine{&log}, 2.0 * x);
+  const auto copy = e;  // copies the handle, not the state
+  static_assert(std::is_trivially_copyable_v<ScaledSine>);
+  log.gain = 1.5;
+  Vec<2> y, y_copy;
+  Mat<2> J, J_chained, H;
+  ProbeLog after_value, after_jacobian;
+  {
+    NoAllocScope guard;
+    y = ad::evaluate(e, xv);
+    after_value = log;
+    J = ad::jacobian(e, xv);
+    after_jacobian = log;
+    J_chained = ad::jacobian(chained, xv);
+    H = ad::hessian(ad::sum(e), xv);
+    log.gain = 2.5;
+    y_copy = ad::evaluate(copy, xv);
+  }
+  const double g = 1.5;
+  ARBOR_EXPECT_REL(y, Vec<2>(g * std::sin(xv[0]), g * std::sin(xv[1])), 1e-15);
+  ARBOR_EXPECT_REL(y_copy, Vec<2>(2.5 * std::sin(xv[0]), 2.5 * std::sin(xv[1])), 1e-15);
+  Mat<2> J_ref = Mat<2>::Zero(), Jc_ref = Mat<2>::Zero(), H_ref = Mat<2>::Zero();
+  for (int i = 0; i < 2; ++i) {
+    J_ref(i, i) = g * std::cos(xv[i]);
+    Jc_ref(i, i) = 2 * g * std::cos(2 * xv[i]);
+    H_ref(i, i) = -g * std::sin(xv[i]);
+  }
+  ARBOR_EXPECT_REL(J, J_ref, 1e-15);
+  ARBOR_EXPECT_REL(J_chained, Jc_ref, 1e-15);
+  ARBOR_EXPECT_REL(H, H_ref, 1e-15);
+  EXPECT_EQ(after_value.value_calls, 1);
+  EXPECT_EQ(after_value.jacobian_calls, 0);
+  EXPECT_EQ(after_jacobian.value_calls, 1);  // no value() call for a Jacobian
+  EXPECT_EQ(after_jacobian.jacobian_calls, 1);
+  EXPECT_EQ(log.jacobian_calls, 3);  // + chained Jacobian + Hessian
+  EXPECT_EQ(log.dual_jacobian_calls, 1);
+  EXPECT_EQ(log.value_calls, 2);
 }
 
 // ---- custom-derivative nodes: the provider tag ------------------------------------------------

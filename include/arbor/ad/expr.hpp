@@ -5,7 +5,7 @@
 //
 //   constexpr ad::Symbol<0, 7> q;          // argument 0: a 7-vector
 //   constexpr ad::Symbol<1, 1> s;          // argument 1: a scalar
-//   auto e = ad::call<ad::Analytical>(ad::FramePosition<Arm, 8>{}, q) - p_ref(s);
+//   auto e = ad::call<ad::Analytical>(frame_position_handle, q) - p_ref(s);
 //   auto cost = ad::squared_norm(e);
 //   auto g = ad::gradient(cost, q_value, s_value);   // d cost / d (q, s), an 8-vector
 //   auto H = ad::hessian(cost, q_value, s_value);    // 8 x 8
@@ -27,14 +27,15 @@
 //   expr/constant_matrix.hpp  mul<K>(x), K{} * x: compile-time constant matrices
 //                             (spatial/constant.hpp's products), ConstMatrix, TransposedMatrix
 //   expr/boundaries.hpp       let, fn: subexpressions evaluated once (and the `auto` pitfall)
-//   expr/call.hpp             call<Tag>(F{}, args...): custom-derivative nodes (RBD functions)
+//   expr/call.hpp             call<Tag>(f, args...): custom-derivative nodes (f a cheap handle)
 //   expr/evaluate.hpp         evaluate, jacobian, gradient, hessian, value_and_jacobian,
 //                             value_gradient_hessian
 //
 // Resources: no heap, no exceptions, no RTTI. Evaluations use the stack: at
 // S = Dual<Dual<double, n>, n> every scalar is 8 (n + 1)^2 bytes, so keep n and the vector
-// sizes of Hessian evaluations moderate on small targets. Custom nodes use the static
-// workspaces of rbd_functions.hpp (not reentrant). See docs/ad_expressions.md.
+// sizes of Hessian evaluations moderate on small targets. Custom nodes use the workspace their
+// function object refers to (caller-owned; one per concurrent evaluation). See
+// docs/ad_expressions.md.
 #pragma once
 
 #include "arbor/ad/expr/blocks.hpp"
