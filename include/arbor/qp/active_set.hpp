@@ -7,9 +7,9 @@
 //
 // Method (QRQP-style, see /work/shared/QRQP.md, our own implementation):
 // - An explicit int8 working set ws (ConstraintState in backend.hpp: inactive, lower, upper,
-//   equality) is built from
-//   the multipliers' signs at the start of every solve (warm start = keep x and lam), and kept
-//   consistent afterwards: an inactive constraint has lam_i == 0 exactly.
+//   equality) is built from the multipliers' signs at the start of every solve (warm start =
+//   keep x and lam), and kept consistent afterwards: an inactive constraint has lam_i == 0
+//   exactly.
 // - Each iteration evaluates the residuals and makes at most ONE working-set change: a pending
 //   change from the last ratio test, else, if the (scaled) primal error dominates, the most
 //   violated constraint is added on its violated side, else the active constraint whose
