@@ -7,21 +7,21 @@
 namespace arbor {
 
 /// Fixed-size Eigen aliases; Scalar is double, float or an AD/op-counting type.
-template <class S>
-using Vec3 = Eigen::Matrix<S, 3, 1>;
-template <class S>
-using Mat3 = Eigen::Matrix<S, 3, 3>;
-template <class S>
-using Vec6 = Eigen::Matrix<S, 6, 1>;
-template <class S>
-using Mat6 = Eigen::Matrix<S, 6, 6>;
-template <class S, int N>
-using VecN = Eigen::Matrix<S, N, 1>;
+template <class Scalar>
+using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+template <class Scalar>
+using Mat3 = Eigen::Matrix<Scalar, 3, 3>;
+template <class Scalar>
+using Vec6 = Eigen::Matrix<Scalar, 6, 1>;
+template <class Scalar>
+using Mat6 = Eigen::Matrix<Scalar, 6, 6>;
+template <class Scalar, int N>
+using VecN = Eigen::Matrix<Scalar, N, 1>;
 /// Square N x N matrix (row-major storage is never used; column-major like Eigen's default).
-template <class S, int N>
-using MatN = Eigen::Matrix<S, N, N>;
+template <class Scalar, int N>
+using MatN = Eigen::Matrix<Scalar, N, N>;
 /// 6 x N matrix (Jacobians), linear rows first, then angular rows.
-template <class S, int N>
-using Mat6N = Eigen::Matrix<S, 6, N>;
+template <class Scalar, int N>
+using Mat6N = Eigen::Matrix<Scalar, 6, N>;
 
 }  // namespace arbor

@@ -8,16 +8,16 @@
 namespace arbor::spatial {
 
 /// Spatial motion vector (twist or spatial acceleration) at the origin of some frame.
-template <class S>
+template <class Scalar>
 struct Motion {
-  Vec3<S> v;  ///< linear part (velocity of the point at the frame origin)
-  Vec3<S> w;  ///< angular part
+  Vec3<Scalar> v;  ///< linear part (velocity of the point at the frame origin)
+  Vec3<Scalar> w;  ///< angular part
 
   /// The zero motion.
-  static Motion Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
+  static Motion Zero() { return {Vec3<Scalar>::Zero(), Vec3<Scalar>::Zero()}; }
   /// Stacked 6-vector [v; w].
-  Vec6<S> vector() const {
-    Vec6<S> x;
+  Vec6<Scalar> vector() const {
+    Vec6<Scalar> x;
     x << v, w;
     return x;
   }
@@ -39,20 +39,20 @@ struct Motion {
     w -= o.w;
     return *this;
   }
-  Motion operator*(const S& k) const { return {v * k, w * k}; }
+  Motion operator*(const Scalar& k) const { return {v * k, w * k}; }
 };
 
 /// Spatial force vector (wrench) at the origin of some frame.
-template <class S>
+template <class Scalar>
 struct Force {
-  Vec3<S> f;  ///< linear part (force)
-  Vec3<S> n;  ///< angular part (moment about the frame origin)
+  Vec3<Scalar> f;  ///< linear part (force)
+  Vec3<Scalar> n;  ///< angular part (moment about the frame origin)
 
   /// The zero force.
-  static Force Zero() { return {Vec3<S>::Zero(), Vec3<S>::Zero()}; }
+  static Force Zero() { return {Vec3<Scalar>::Zero(), Vec3<Scalar>::Zero()}; }
   /// Stacked 6-vector [f; n].
-  Vec6<S> vector() const {
-    Vec6<S> x;
+  Vec6<Scalar> vector() const {
+    Vec6<Scalar> x;
     x << f, n;
     return x;
   }
@@ -74,37 +74,37 @@ struct Force {
     n -= o.n;
     return *this;
   }
-  Force operator*(const S& k) const { return {f * k, n * k}; }
+  Force operator*(const Scalar& k) const { return {f * k, n * k}; }
 };
 
 /// Motion cross product m1 x m2 = [w1 x v2 + v1 x w2; w1 x w2].
-template <class S>
-ARBOR_INLINE Motion<S> cross(const Motion<S>& m1, const Motion<S>& m2) {
+template <class Scalar>
+ARBOR_INLINE Motion<Scalar> cross(const Motion<Scalar>& m1, const Motion<Scalar>& m2) {
   return {m1.w.cross(m2.v) + m1.v.cross(m2.w), m1.w.cross(m2.w)};
 }
 
 /// Force cross product m x* f = [w x f; w x n + v x f].
-template <class S>
-ARBOR_INLINE Force<S> cross(const Motion<S>& m, const Force<S>& f) {
+template <class Scalar>
+ARBOR_INLINE Force<Scalar> cross(const Motion<Scalar>& m, const Force<Scalar>& f) {
   return {m.w.cross(f.f), m.w.cross(f.n) + m.v.cross(f.f)};
 }
 
 /// Power (duality pairing) <f, m> = f . v + n . w.
-template <class S>
-ARBOR_INLINE S dot(const Force<S>& f, const Motion<S>& m) {
+template <class Scalar>
+ARBOR_INLINE Scalar dot(const Force<Scalar>& f, const Motion<Scalar>& m) {
   return f.f.dot(m.v) + f.n.dot(m.w);
 }
 
 /// 6x6 matrix of the motion cross product operator m x (acting on motions).
-template <class S>
-Mat6<S> motion_cross_matrix(const Motion<S>& m) {
-  auto skew = [](const Vec3<S>& x) {
-    Mat3<S> K;
-    K << S(0), -x[2], x[1], x[2], S(0), -x[0], -x[1], x[0], S(0);
+template <class Scalar>
+Mat6<Scalar> motion_cross_matrix(const Motion<Scalar>& m) {
+  auto skew = [](const Vec3<Scalar>& x) {
+    Mat3<Scalar> K;
+    K << Scalar(0), -x[2], x[1], x[2], Scalar(0), -x[0], -x[1], x[0], Scalar(0);
     return K;
   };
-  Mat6<S> X;
-  X << skew(m.w), skew(m.v), Mat3<S>::Zero(), skew(m.w);
+  Mat6<Scalar> X;
+  X << skew(m.w), skew(m.v), Mat3<Scalar>::Zero(), skew(m.w);
   return X;
 }
 
