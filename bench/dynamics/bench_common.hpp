@@ -65,6 +65,7 @@ template <class R, class S>
 struct Inputs {
   VecN<S, R::nv> q, v, a, tau;
   Mat6N<S, R::nv> J;
+  DerivativeData<R, S> deriv;  ///< workspace of the derivative algorithms
   Inputs() {
     std::mt19937 g(1234);
     std::uniform_real_distribution<double> u(-1, 1);
@@ -100,11 +101,11 @@ ARBOR_INLINE const void* call(Data<R, S>& d, Inputs<R, S>& in) {
     compute_frame_jacobian<R>(d, in.q, R::nf - 1, ReferenceFrame::local_world_aligned, in.J);
     return &in.J;
   } else if constexpr (A == Algo::rnea_derivatives) {
-    rnea_derivatives<R>(d, in.q, in.v, in.a);
-    return &d.dtau_dq;
+    rnea_derivatives<R>(d, in.deriv, in.q, in.v, in.a);
+    return &in.deriv.dtau_dq;
   } else if constexpr (A == Algo::aba_derivatives) {
-    aba_derivatives<R>(d, in.q, in.v, in.tau);
-    return &d.ddq_dq;
+    aba_derivatives<R>(d, in.deriv, in.q, in.v, in.tau);
+    return &in.deriv.ddq_dq;
   } else {
     // M from crba, then a Cholesky solve M x = tau (the dense alternative to aba/minverse)
     crba<R>(d, in.q);

@@ -97,6 +97,7 @@ void dual_matches_reference_and_analytical(const std::string& file_name, double 
   ASSERT_FALSE(ref.samples.empty());
   const std::vector<int> perm = joint_permutation<R>(ref);
   auto d = std::make_unique<Data<R, double>>();
+  auto dd = std::make_unique<DerivativeData<R, double>>();
   int k = 0;
   for (const ReferenceSample& s : ref.samples) {
     SCOPED_TRACE("sample " + std::to_string(k++));
@@ -114,12 +115,12 @@ void dual_matches_reference_and_analytical(const std::string& file_name, double 
       {
         NoAllocScope guard;
         if constexpr (id)
-          rnea_derivatives<R>(*d, q, v, x2);
+          rnea_derivatives<R>(*d, *dd, q, v, x2);
         else
-          aba_derivatives<R>(*d, q, v, x2);
+          aba_derivatives<R>(*d, *dd, q, v, x2);
       }
-      ARBOR_EXPECT_REL(J.template leftCols<n>(), id ? d->dtau_dq : d->ddq_dq, 1e-10);
-      ARBOR_EXPECT_REL(J.template middleCols<n>(n), id ? d->dtau_dv : d->ddq_dv, 1e-10);
+      ARBOR_EXPECT_REL(J.template leftCols<n>(), id ? dd->dtau_dq : dd->ddq_dq, 1e-10);
+      ARBOR_EXPECT_REL(J.template middleCols<n>(n), id ? dd->dtau_dv : dd->ddq_dv, 1e-10);
       ARBOR_EXPECT_REL(J.template rightCols<n>(), id ? d->M : d->Minv, 1e-10);
     }
     if (k == 1) {

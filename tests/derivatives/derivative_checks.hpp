@@ -28,7 +28,7 @@ template <class R>
 struct State {
   Vec<R::nv> q, v, a, tau;
   Eigen::Vector3d g;
-  typename Data<R, double>::ForceArray fext;
+  ForceArray<R, double> fext;
 };
 
 template <class R>
@@ -78,55 +78,75 @@ template <class R>
 void matches_finite_differences(unsigned seed) {
   constexpr int n = R::nv;
   auto d = std::make_unique<Data<R, double>>();
+  auto dd = std::make_unique<DerivativeData<R, double>>();
   auto e = std::make_unique<Data<R, double>>();  // for the finite differences
+  auto ed = std::make_unique<DerivativeData<R, double>>();
   std::mt19937 gen(seed);
   for (int trial = 0; trial < 3; ++trial) {
     const State<R> s = random_state<R>(gen);
     for (bool with_fext : {false, true}) {
       SCOPED_TRACE(with_fext ? "with fext" : "without fext");
-      const auto* fx = with_fext ? &s.fext : nullptr;
+      // every algorithm with the external forces, or without them
+      auto id = [&](Data<R, double>& w, const Vec<n>& q, const Vec<n>& v, const Vec<n>& a) {
+        return with_fext ? rnea<R>(w, q, v, a, s.g, s.fext) : rnea<R>(w, q, v, a, s.g);
+      };
+      auto fd = [&](Data<R, double>& w, const Vec<n>& q, const Vec<n>& v, const Vec<n>& t) {
+        return with_fext ? aba<R>(w, q, v, t, s.g, s.fext) : aba<R>(w, q, v, t, s.g);
+      };
+      auto id_derivatives = [&](Data<R, double>& w, DerivativeData<R, double>& wd, const Vec<n>& a) {
+        if (with_fext)
+          rnea_derivatives<R>(w, wd, s.q, s.v, a, s.g, s.fext);
+        else
+          rnea_derivatives<R>(w, wd, s.q, s.v, a, s.g);
+      };
+      auto fd_derivatives = [&](Data<R, double>& w, DerivativeData<R, double>& wd) {
+        if (with_fext)
+          aba_derivatives<R>(w, wd, s.q, s.v, s.tau, s.g, s.fext);
+        else
+          aba_derivatives<R>(w, wd, s.q, s.v, s.tau, s.g);
+      };
       // inverse dynamics
       {
         NoAllocScope guard;
-        rnea_derivatives<R>(*d, s.q, s.v, s.a, s.g, fx);
+        id_derivatives(*d, *dd, s.a);
       }
       Vec<n> tau, ddq;
       Mat<n> M, Minv;
       {
         NoAllocScope guard;
-        tau = rnea<R>(*e, s.q, s.v, s.a, s.g, fx);
+        tau = id(*e, s.q, s.v, s.a);
         M = crba<R>(*e, s.q);
-        ddq = aba<R>(*e, s.q, s.v, s.tau, s.g, fx);
+        ddq = fd(*e, s.q, s.v, s.tau);
         Minv = minverse<R>(*e, s.q);
       }
       ARBOR_EXPECT_REL(d->tau, tau, 1e-12);
-      auto id_q = [&](const Vec<n>& q) -> Vec<n> { return rnea<R>(*e, q, s.v, s.a, s.g, fx); };
-      auto id_v = [&](const Vec<n>& v) -> Vec<n> { return rnea<R>(*e, s.q, v, s.a, s.g, fx); };
-      ARBOR_EXPECT_REL(d->dtau_dq, (central_diff<n, n>(s.q, id_q)), kFdTol);
-      ARBOR_EXPECT_REL(d->dtau_dv, (central_diff<n, n>(s.v, id_v)), kFdTol);
+      auto id_q = [&](const Vec<n>& q) -> Vec<n> { return id(*e, q, s.v, s.a); };
+      auto id_v = [&](const Vec<n>& v) -> Vec<n> { return id(*e, s.q, v, s.a); };
+      ARBOR_EXPECT_REL(dd->dtau_dq, (central_diff<n, n>(s.q, id_q)), kFdTol);
+      ARBOR_EXPECT_REL(dd->dtau_dv, (central_diff<n, n>(s.v, id_v)), kFdTol);
       // d tau / d a = M exactly (tau is linear in a), and equals crba
       ARBOR_EXPECT_REL(d->M, M, 1e-12);
       // forward dynamics
       {
         NoAllocScope guard;
-        aba_derivatives<R>(*d, s.q, s.v, s.tau, s.g, fx);
+        fd_derivatives(*d, *dd);
       }
       ARBOR_EXPECT_REL(d->ddq, ddq, 1e-12);
-      auto fd_q = [&](const Vec<n>& q) -> Vec<n> { return aba<R>(*e, q, s.v, s.tau, s.g, fx); };
-      auto fd_v = [&](const Vec<n>& v) -> Vec<n> { return aba<R>(*e, s.q, v, s.tau, s.g, fx); };
-      auto fd_t = [&](const Vec<n>& t) -> Vec<n> { return aba<R>(*e, s.q, s.v, t, s.g, fx); };
-      ARBOR_EXPECT_REL(d->ddq_dq, (central_diff<n, n>(s.q, fd_q)), kFdTol);
-      ARBOR_EXPECT_REL(d->ddq_dv, (central_diff<n, n>(s.v, fd_v)), kFdTol);
+      auto fd_q = [&](const Vec<n>& q) -> Vec<n> { return fd(*e, q, s.v, s.tau); };
+      auto fd_v = [&](const Vec<n>& v) -> Vec<n> { return fd(*e, s.q, v, s.tau); };
+      auto fd_t = [&](const Vec<n>& t) -> Vec<n> { return fd(*e, s.q, s.v, t); };
+      ARBOR_EXPECT_REL(dd->ddq_dq, (central_diff<n, n>(s.q, fd_q)), kFdTol);
+      ARBOR_EXPECT_REL(dd->ddq_dv, (central_diff<n, n>(s.v, fd_v)), kFdTol);
       ARBOR_EXPECT_REL(d->Minv, (central_diff<n, n>(s.tau, fd_t)), kFdTol);
       // d ddq / d tau = minverse; d ddq / d q = -M^-1 d tau / d q at (q, v, aba(q, v, tau)),
       // with every factor from a separate call
       ARBOR_EXPECT_REL(d->Minv, Minv, 1e-12);
       {
         NoAllocScope guard;
-        rnea_derivatives<R>(*e, s.q, s.v, ddq, s.g, fx);
+        id_derivatives(*e, *ed, ddq);
       }
-      ARBOR_EXPECT_REL(d->ddq_dq, (-Minv * e->dtau_dq).eval(), 1e-10);
-      ARBOR_EXPECT_REL(d->ddq_dv, (-Minv * e->dtau_dv).eval(), 1e-10);
+      ARBOR_EXPECT_REL(dd->ddq_dq, (-Minv * ed->dtau_dq).eval(), 1e-10);
+      ARBOR_EXPECT_REL(dd->ddq_dv, (-Minv * ed->dtau_dv).eval(), 1e-10);
       ARBOR_EXPECT_REL((e->M * Minv).eval(), (Mat<n>::Identity()), 1e-9);
     }
   }
@@ -173,7 +193,9 @@ template <class R>
 void float_matches_double(unsigned seed, double tol_id = 1e-4, double tol_fd = 1e-2) {
   constexpr int n = R::nv;
   auto d = std::make_unique<Data<R, double>>();
+  auto dd = std::make_unique<DerivativeData<R, double>>();
   auto f = std::make_unique<Data<R, float>>();
+  auto fd = std::make_unique<DerivativeData<R, float>>();
   std::mt19937 gen(seed);
   const State<R> s = random_state<R>(gen);
   const Eigen::Matrix<float, n, 1> qf = s.q.template cast<float>(), vf = s.v.template cast<float>(),
@@ -182,19 +204,19 @@ void float_matches_double(unsigned seed, double tol_id = 1e-4, double tol_fd = 1
   const Eigen::Vector3f gf = s.g.template cast<float>();
   {
     NoAllocScope guard;
-    rnea_derivatives<R>(*d, s.q, s.v, s.a, s.g);
-    rnea_derivatives<R>(*f, qf, vf, af, gf);
+    rnea_derivatives<R>(*d, *dd, s.q, s.v, s.a, s.g);
+    rnea_derivatives<R>(*f, *fd, qf, vf, af, gf);
   }
-  ARBOR_EXPECT_REL(f->dtau_dq, d->dtau_dq, tol_id);
-  ARBOR_EXPECT_REL(f->dtau_dv, d->dtau_dv, tol_id);
+  ARBOR_EXPECT_REL(fd->dtau_dq, dd->dtau_dq, tol_id);
+  ARBOR_EXPECT_REL(fd->dtau_dv, dd->dtau_dv, tol_id);
   ARBOR_EXPECT_REL(f->M, d->M, tol_id);
   {
     NoAllocScope guard;
-    aba_derivatives<R>(*d, s.q, s.v, s.tau, s.g);
-    aba_derivatives<R>(*f, qf, vf, tf, gf);
+    aba_derivatives<R>(*d, *dd, s.q, s.v, s.tau, s.g);
+    aba_derivatives<R>(*f, *fd, qf, vf, tf, gf);
   }
-  ARBOR_EXPECT_REL(f->ddq_dq, d->ddq_dq, tol_fd);
-  ARBOR_EXPECT_REL(f->ddq_dv, d->ddq_dv, tol_fd);
+  ARBOR_EXPECT_REL(fd->ddq_dq, dd->ddq_dq, tol_fd);
+  ARBOR_EXPECT_REL(fd->ddq_dv, dd->ddq_dv, tol_fd);
   ARBOR_EXPECT_REL(f->Minv, d->Minv, tol_fd);
 }
 
@@ -207,6 +229,7 @@ void matches_reference(const std::string& file_name, double tol_id, double tol_f
   ASSERT_EQ(ref.nv, n);
   const std::vector<int> perm = joint_permutation<R>(ref);
   auto d = std::make_unique<Data<R, double>>();
+  auto dd = std::make_unique<DerivativeData<R, double>>();
   ASSERT_FALSE(ref.samples.empty());
   int k = 0;
   for (const ReferenceSample& s : ref.samples) {
@@ -217,18 +240,18 @@ void matches_reference(const std::string& file_name, double tol_id, double tol_f
     const Vec<n> tau = permute_vector(s.values.at("tau"), perm);
     {
       NoAllocScope guard;
-      rnea_derivatives<R>(*d, q, v, a);
+      rnea_derivatives<R>(*d, *dd, q, v, a);
     }
-    ARBOR_EXPECT_REL(d->dtau_dq, permute_matrix(s.values.at("drnea_dq"), perm), tol_id);
-    ARBOR_EXPECT_REL(d->dtau_dv, permute_matrix(s.values.at("drnea_dv"), perm), tol_id);
+    ARBOR_EXPECT_REL(dd->dtau_dq, permute_matrix(s.values.at("drnea_dq"), perm), tol_id);
+    ARBOR_EXPECT_REL(dd->dtau_dv, permute_matrix(s.values.at("drnea_dv"), perm), tol_id);
     ARBOR_EXPECT_REL(d->M, permute_matrix(s.values.at("crba"), perm), tol_id);
     ARBOR_EXPECT_REL(d->tau, permute_vector(s.values.at("rnea"), perm), tol_id);
     {
       NoAllocScope guard;
-      aba_derivatives<R>(*d, q, v, tau);
+      aba_derivatives<R>(*d, *dd, q, v, tau);
     }
-    ARBOR_EXPECT_REL(d->ddq_dq, permute_matrix(s.values.at("daba_dq"), perm), tol_fd);
-    ARBOR_EXPECT_REL(d->ddq_dv, permute_matrix(s.values.at("daba_dv"), perm), tol_fd);
+    ARBOR_EXPECT_REL(dd->ddq_dq, permute_matrix(s.values.at("daba_dq"), perm), tol_fd);
+    ARBOR_EXPECT_REL(dd->ddq_dv, permute_matrix(s.values.at("daba_dv"), perm), tol_fd);
     ARBOR_EXPECT_REL(d->Minv, permute_matrix(s.values.at("minv"), perm), tol_fd);
     ARBOR_EXPECT_REL(d->ddq, permute_vector(s.values.at("aba"), perm), tol_fd);
   }

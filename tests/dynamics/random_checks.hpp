@@ -50,7 +50,7 @@ void matches_textbook() {
     const State<n> s = random_state<n>(gen);
     const Eigen::VectorXd q = s.q, v = s.v, a = s.a, tau = s.tau;
     std::vector<tb::Vec6> fext_tb(n);
-    typename arbor::Data<R, double>::ForceArray fext;
+    arbor::ForceArray<R, double> fext;
     std::uniform_real_distribution<double> u(-2, 2);
     for (int i = 0; i < n; ++i) {
       for (int k = 0; k < 6; ++k)
@@ -94,7 +94,7 @@ void matches_textbook() {
     ARBOR_EXPECT_REL(d->ddq, tb::aba(model, q, v, tau, s.g), 1e-8);
     {
       NoAllocScope guard;
-      arbor::aba<R>(*d, s.q, s.v, s.tau, s.g, &fext);
+      arbor::aba<R>(*d, s.q, s.v, s.tau, s.g, fext);
     }
     ARBOR_EXPECT_REL(d->ddq, tb::aba(model, q, v, tau, s.g, fext_tb), 1e-8);
     // minverse

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
+#include "arbor/derivatives/derivative_data.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/jacobian.hpp"
 #include "arbor/dynamics/kinematics.hpp"
@@ -31,7 +32,7 @@ namespace arbor {
 namespace detail {
 
 /// World-frame quantities of the constant body inertia of body i.
-template <class R, int i, class S>
+template <class R, int i, class Scalar>
 struct WorldInertia {
   static constexpr const model::Inertia& In = R::body_inertia[i];
   static constexpr bool massless = In.mass == 0.0;
@@ -43,20 +44,20 @@ struct WorldInertia {
   };
 
   /// The inertia of body i in the world frame, from its placement oMi.
-  ARBOR_INLINE static Inertia<S> of(const SE3<S>& X) {
-    Inertia<S> Y;
-    const S m = S(In.mass);
+  ARBOR_INLINE static Inertia<Scalar> of(const SE3<Scalar>& X) {
+    Inertia<Scalar> Y;
+    const Scalar m = Scalar(In.mass);
     Y.m = m;
-    Vec3<S> c = X.p;
+    Vec3<Scalar> c = X.p;
     if constexpr (!spatial::cst::is_zero_vec<Com>())
-      c += spatial::cst::mat_cvec<S, Com>(X.R);
+      c += spatial::cst::mat_cvec<Scalar, Com>(X.R);
     Y.h = c * m;
     // Io = R Ic R^T + m (|c|^2 1 - c c^T)
-    const Mat3<S> T = spatial::cst::mul_cols<S, Ic, 3>(X.R);  // R Ic
-    const S cc = c.squaredNorm();
+    const Mat3<Scalar> T = spatial::cst::mul_cols<Scalar, Ic, 3>(X.R);  // R Ic
+    const Scalar cc = c.squaredNorm();
     for (int r = 0; r < 3; ++r)
       for (int k = r; k < 3; ++k) {
-        S e = T.row(r).dot(X.R.row(k)) - Y.h[r] * c[k];
+        Scalar e = T.row(r).dot(X.R.row(k)) - Y.h[r] * c[k];
         if (r == k)
           e += m * cc;
         Y.Io(r, k) = e;
@@ -66,17 +67,18 @@ struct WorldInertia {
   }
 
   /// Rate v x* Y - Y v x of a rigid inertia Y moving with velocity v.
-  ARBOR_INLINE static spatial::InertiaRate<S> rate(const Inertia<S>& Y, const Motion<S>& v) {
-    spatial::InertiaRate<S> D;
+  ARBOR_INLINE static spatial::InertiaRate<Scalar> rate(const Inertia<Scalar>& Y,
+                                                        const Motion<Scalar>& v) {
+    spatial::InertiaRate<Scalar> D;
     D.hd = v.v * Y.m + v.w.cross(Y.h);
     // Iod = [w] Io - Io [w] - (h v^T + v h^T - 2 (v . h) 1) = A + A^T - ..., A = [w] Io
-    Mat3<S> A;
+    Mat3<Scalar> A;
     for (int k = 0; k < 3; ++k)
       A.col(k) = v.w.cross(Y.Io.col(k));
-    const S vh2 = S(2) * v.v.dot(Y.h);
+    const Scalar vh2 = Scalar(2) * v.v.dot(Y.h);
     for (int r = 0; r < 3; ++r)
       for (int k = r; k < 3; ++k) {
-        S e = A(r, k) + A(k, r) - Y.h[r] * v.v[k] - v.v[r] * Y.h[k];
+        Scalar e = A(r, k) + A(k, r) - Y.h[r] * v.v[k] - v.v[r] * Y.h[k];
         if (r == k)
           e += vh2;
         D.Iod(r, k) = e;
@@ -87,28 +89,28 @@ struct WorldInertia {
 };
 
 /// m x S for the world column S of body B's joint (no angular part for prismatic joints).
-template <class B, class S>
-ARBOR_INLINE Motion<S> cross_col(const Motion<S>& m, const Motion<S>& Sc) {
+template <class B, class Scalar>
+ARBOR_INLINE Motion<Scalar> cross_col(const Motion<Scalar>& m, const Motion<Scalar>& Sc) {
   if constexpr (B::revolute)
     return spatial::cross(m, Sc);
   else
-    return {m.w.cross(Sc.v), Vec3<S>::Zero()};
+    return {m.w.cross(Sc.v), Vec3<Scalar>::Zero()};
 }
 
 /// Force cross product S x* f for the world column S of body B's joint.
-template <class B, class S>
-ARBOR_INLINE Force<S> cross_col_force(const Motion<S>& Sc, const Force<S>& f) {
+template <class B, class Scalar>
+ARBOR_INLINE Force<Scalar> cross_col_force(const Motion<Scalar>& Sc, const Force<Scalar>& f) {
   if constexpr (B::revolute)
     return spatial::cross(Sc, f);
   else
-    return {Vec3<S>::Zero(), Sc.v.cross(f.f)};
+    return {Vec3<Scalar>::Zero(), Sc.v.cross(f.f)};
 }
 
 /// The row vector sum_c x[c] * blk.row(c).segment<L>(from) (x a 6-vector given as two 3-vectors).
-template <int L, class S, class Blk>
-ARBOR_INLINE Eigen::Matrix<S, 1, L> row_dot(const Blk& blk, int from, const Vec3<S>& x0,
-                                            const Vec3<S>& x1) {
-  Eigen::Matrix<S, 1, L> r = blk.row(0).template segment<L>(from) * x0[0];
+template <int L, class Scalar, class Blk>
+ARBOR_INLINE Eigen::Matrix<Scalar, 1, L> row_dot(const Blk& blk, int from, const Vec3<Scalar>& x0,
+                                                 const Vec3<Scalar>& x1) {
+  Eigen::Matrix<Scalar, 1, L> r = blk.row(0).template segment<L>(from) * x0[0];
   for (int c = 1; c < 3; ++c)
     r += blk.row(c).template segment<L>(from) * x0[c];
   for (int c = 0; c < 3; ++c)
@@ -120,115 +122,119 @@ ARBOR_INLINE Eigen::Matrix<S, 1, L> row_dot(const Blk& blk, int from, const Vec3
 /// accelerations: placement, world column (into data.J), velocity, dS, the body's own inertia,
 /// rate and momentum (the start of the composite sums), and its force without the joint
 /// accelerations, v x* h - fext (in data.of).
-template <class R, int i, bool HasFext, class S, class V>
-ARBOR_INLINE void deriv_forward_velocity(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
-                                         const typename Data<R, S>::ForceArray* fext) {
-  using B = spatial::BodyOps<R, i, S>;
-  using W = WorldInertia<R, i, S>;
-  body_placement<R, i, S>(d);
-  const Motion<S> Sc = world_column<R, i, S>(d);
+template <class R, int i, bool HasFext, class Scalar, class V>
+ARBOR_INLINE void deriv_forward_velocity(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd,
+                                         const Eigen::MatrixBase<V>& v,
+                                         const typename Data<R, Scalar>::ForceArray* fext) {
+  using B = spatial::BodyOps<R, i, Scalar>;
+  using W = WorldInertia<R, i, Scalar>;
+  body_placement<R, i, Scalar>(d);
+  const Motion<Scalar> Sc = world_column<R, i, Scalar>(d);
   d.J.col(i) << Sc.v, Sc.w;
-  const S vi = S(v[i]);
+  const Scalar vi = Scalar(v[i]);
   if constexpr (B::parent < 0) {
-    d.dS[i] = Motion<S>::Zero();
-    d.ov[i] = Sc * vi;
+    dd.dS[i] = Motion<Scalar>::Zero();
+    dd.ov[i] = Sc * vi;
   } else {
-    const Motion<S>& vp = d.ov[B::parent];
-    d.dS[i] = cross_col<B>(vp, Sc);
-    d.ov[i] = vp + Sc * vi;
+    const Motion<Scalar>& vp = dd.ov[B::parent];
+    dd.dS[i] = cross_col<B>(vp, Sc);
+    dd.ov[i] = vp + Sc * vi;
   }
   if constexpr (W::massless) {
-    d.oYcrb[i] = Inertia<S>::Zero();
-    d.oYdot[i] = spatial::InertiaRate<S>::Zero();
-    d.oh[i] = Force<S>::Zero();
-    d.of[i] = Force<S>::Zero();
+    dd.oYcrb[i] = Inertia<Scalar>::Zero();
+    dd.oYdot[i] = spatial::InertiaRate<Scalar>::Zero();
+    dd.oh[i] = Force<Scalar>::Zero();
+    dd.of[i] = Force<Scalar>::Zero();
   } else {
-    d.oYcrb[i] = W::of(d.oMi[i]);
-    d.oh[i] = d.oYcrb[i] * d.ov[i];
-    d.of[i] = spatial::cross(d.ov[i], d.oh[i]);
-    d.oYdot[i] = W::rate(d.oYcrb[i], d.ov[i]);
+    dd.oYcrb[i] = W::of(d.oMi[i]);
+    dd.oh[i] = dd.oYcrb[i] * dd.ov[i];
+    dd.of[i] = spatial::cross(dd.ov[i], dd.oh[i]);
+    dd.oYdot[i] = W::rate(dd.oYcrb[i], dd.ov[i]);
   }
   if constexpr (HasFext)
-    d.of[i] -= d.oMi[i].act((*fext)[i]);
+    dd.of[i] -= d.oMi[i].act((*fext)[i]);
 }
 
 /// Forward pass of the derivative sweep for body i, the acceleration part: data.oa, ddS, and the
 /// inertial force Y a added to data.of. a is the joint acceleration vector.
-template <class R, int i, class S, class V, class A>
-ARBOR_INLINE void deriv_forward_acceleration(Data<R, S>& d, const Eigen::MatrixBase<V>& v,
-                                             const Eigen::MatrixBase<A>& a, const Vec3<S>& g) {
-  using B = spatial::BodyOps<R, i, S>;
-  const Motion<S> Sc = Motion<S>::from(d.J.col(i));
-  const S ai = S(a[i]);
+template <class R, int i, class Scalar, class V, class A>
+ARBOR_INLINE void deriv_forward_acceleration(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd,
+                                             const Eigen::MatrixBase<V>& v,
+                                             const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g) {
+  using B = spatial::BodyOps<R, i, Scalar>;
+  const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
+  const Scalar ai = Scalar(a[i]);
   if constexpr (B::parent < 0) {
     // v_p = 0, a_p = (-g, 0): ddS = (-g) x S = [-g x S.w; 0]
     if constexpr (B::revolute)
-      d.ddS[i] = {Sc.w.cross(g), Vec3<S>::Zero()};
+      dd.ddS[i] = {Sc.w.cross(g), Vec3<Scalar>::Zero()};
     else
-      d.ddS[i] = Motion<S>::Zero();
-    d.oa[i] = {Sc.v * ai - g, Sc.w * ai};
+      dd.ddS[i] = Motion<Scalar>::Zero();
+    dd.oa[i] = {Sc.v * ai - g, Sc.w * ai};
   } else {
     constexpr int p = B::parent;
-    const Motion<S>& ap = d.oa[p];
-    d.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(d.ov[p], d.dS[i]);
-    d.oa[i] = ap + d.dS[i] * S(v[i]) + Sc * ai;
+    const Motion<Scalar>& ap = dd.oa[p];
+    dd.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(dd.ov[p], dd.dS[i]);
+    dd.oa[i] = ap + dd.dS[i] * Scalar(v[i]) + Sc * ai;
   }
-  if constexpr (!WorldInertia<R, i, S>::massless)
-    d.of[i] += d.oYcrb[i] * d.oa[i];
+  if constexpr (!WorldInertia<R, i, Scalar>::massless)
+    dd.of[i] += dd.oYcrb[i] * dd.oa[i];
 }
 
 /// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
 /// the rows and columns of the derivative matrices over the subtree of i, and the composite sums
 /// handed to the parent.
-template <class R, int i, bool WithM, class S>
-ARBOR_INLINE void deriv_backward_body(Data<R, S>& d) {
-  using B = spatial::BodyOps<R, i, S>;
+template <class R, int i, bool WithM, class Scalar>
+ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
+  using B = spatial::BodyOps<R, i, Scalar>;
   constexpr int n = R::nv;
-  constexpr int last = subtree_last<R>(i);
+  constexpr int last = model::subtree_last<R>(i);
   constexpr int L = last - i + 1;
-  const Motion<S> Sc = Motion<S>::from(d.J.col(i));
-  const Motion<S>& dS = d.dS[i];
-  const Inertia<S>& Y = d.oYcrb[i];
-  const spatial::InertiaRate<S>& Yd = d.oYdot[i];
-  const Force<S>& h = d.oh[i];
-  const Force<S>& F = d.of[i];
+  const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
+  const Motion<Scalar>& dS = dd.dS[i];
+  const Inertia<Scalar>& Y = dd.oYcrb[i];
+  const spatial::InertiaRate<Scalar>& Yd = dd.oYdot[i];
+  const Force<Scalar>& h = dd.oh[i];
+  const Force<Scalar>& F = dd.of[i];
 
   d.tau[i] = spatial::dot(F, Sc);
-  const Force<S> P = Y * Sc;
-  const Force<S> YdS = Yd * Sc;
-  const Force<S> Sxh = cross_col_force<B>(Sc, h);
-  const Force<S> Q = YdS - Sxh;
-  const Force<S> G = cross_col_force<B>(Sc, F) + Y * d.ddS[i] + Yd * dS + spatial::cross(dS, h);
-  const Force<S> H = Y * dS * S(2) + YdS + Sxh;
+  const Force<Scalar> P = Y * Sc;
+  const Force<Scalar> YdS = Yd * Sc;
+  const Force<Scalar> Sxh = cross_col_force<B>(Sc, h);
+  const Force<Scalar> Q = YdS - Sxh;
+  const Force<Scalar> G =
+      cross_col_force<B>(Sc, F) + Y * dd.ddS[i] + Yd * dS + spatial::cross(dS, h);
+  const Force<Scalar> H = Y * dS * Scalar(2) + YdS + Sxh;
   for (int c = 0; c < 3; ++c) {
-    d.dP(c, i) = P.f[c];
-    d.dP(3 + c, i) = P.n[c];
-    d.dQ(c, i) = Q.f[c];
-    d.dQ(3 + c, i) = Q.n[c];
-    d.dG(c, i) = G.f[c];
-    d.dG(3 + c, i) = G.n[c];
-    d.dH(c, i) = H.f[c];
-    d.dH(3 + c, i) = H.n[c];
+    dd.dP(c, i) = P.f[c];
+    dd.dP(3 + c, i) = P.n[c];
+    dd.dQ(c, i) = Q.f[c];
+    dd.dQ(3 + c, i) = Q.n[c];
+    dd.dG(c, i) = G.f[c];
+    dd.dG(3 + c, i) = G.n[c];
+    dd.dH(c, i) = H.f[c];
+    dd.dH(3 + c, i) = H.n[c];
   }
-  if constexpr (subtree_contiguous<R>(i)) {
+  if constexpr (model::subtree_contiguous<R>(i)) {
     // Row i over the subtree (k = i, j in [i, last]).
-    d.dtau_dq.row(i).template segment<L>(i) = row_dot<L, S>(d.dG, i, Sc.v, Sc.w);
-    d.dtau_dv.row(i).template segment<L>(i) = row_dot<L, S>(d.dH, i, Sc.v, Sc.w);
+    dd.dtau_dq.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dG, i, Sc.v, Sc.w);
+    dd.dtau_dv.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dH, i, Sc.v, Sc.w);
     if constexpr (WithM) {
-      const auto mrow = row_dot<L, S>(d.dP, i, Sc.v, Sc.w);
+      const auto mrow = row_dot<L, Scalar>(dd.dP, i, Sc.v, Sc.w);
       d.M.row(i).template segment<L>(i) = mrow;
       d.M.col(i).template segment<L>(i) = mrow.transpose();
     }
     // Column i below the diagonal over the strict subtree (j = i ancestor of k in (i, last]).
     if constexpr (L > 1) {
-      const Motion<S>& ddS = d.ddS[i];
-      d.dtau_dq.col(i).template segment<L - 1>(i + 1) =
-          (row_dot<L - 1, S>(d.dP, i + 1, ddS.v, ddS.w) +
-           row_dot<L - 1, S>(d.dQ, i + 1, dS.v, dS.w))
+      const Motion<Scalar>& ddS = dd.ddS[i];
+      dd.dtau_dq.col(i).template segment<L - 1>(i + 1) =
+          (row_dot<L - 1, Scalar>(dd.dP, i + 1, ddS.v, ddS.w) +
+           row_dot<L - 1, Scalar>(dd.dQ, i + 1, dS.v, dS.w))
               .transpose();
-      const Vec3<S> dSv2 = dS.v * S(2), dSw2 = dS.w * S(2);
-      d.dtau_dv.col(i).template segment<L - 1>(i + 1) =
-          (row_dot<L - 1, S>(d.dP, i + 1, dSv2, dSw2) + row_dot<L - 1, S>(d.dQ, i + 1, Sc.v, Sc.w))
+      const Vec3<Scalar> dSv2 = dS.v * Scalar(2), dSw2 = dS.w * Scalar(2);
+      dd.dtau_dv.col(i).template segment<L - 1>(i + 1) =
+          (row_dot<L - 1, Scalar>(dd.dP, i + 1, dSv2, dSw2) +
+           row_dot<L - 1, Scalar>(dd.dQ, i + 1, Sc.v, Sc.w))
               .transpose();
     }
   } else {
@@ -236,39 +242,39 @@ ARBOR_INLINE void deriv_backward_body(Data<R, S>& d) {
     // bodies of other branches, so each member of the subtree is taken on its own.
     static_for<L>([&](auto J) {
       constexpr int j = i + decltype(J)::value;
-      if constexpr (!support<R>[j][i]) {
-        d.dtau_dq(i, j) = S(0);
-        d.dtau_dq(j, i) = S(0);
-        d.dtau_dv(i, j) = S(0);
-        d.dtau_dv(j, i) = S(0);
+      if constexpr (!model::support<R>[j][i]) {
+        dd.dtau_dq(i, j) = Scalar(0);
+        dd.dtau_dq(j, i) = Scalar(0);
+        dd.dtau_dv(i, j) = Scalar(0);
+        dd.dtau_dv(j, i) = Scalar(0);
         if constexpr (WithM) {
-          d.M(i, j) = S(0);
-          d.M(j, i) = S(0);
+          d.M(i, j) = Scalar(0);
+          d.M(j, i) = Scalar(0);
         }
       } else {
-        d.dtau_dq(i, j) = row_dot<1, S>(d.dG, j, Sc.v, Sc.w)[0];
-        d.dtau_dv(i, j) = row_dot<1, S>(d.dH, j, Sc.v, Sc.w)[0];
+        dd.dtau_dq(i, j) = row_dot<1, Scalar>(dd.dG, j, Sc.v, Sc.w)[0];
+        dd.dtau_dv(i, j) = row_dot<1, Scalar>(dd.dH, j, Sc.v, Sc.w)[0];
         if constexpr (WithM) {
-          const S m = row_dot<1, S>(d.dP, j, Sc.v, Sc.w)[0];
+          const Scalar m = row_dot<1, Scalar>(dd.dP, j, Sc.v, Sc.w)[0];
           d.M(i, j) = m;
           d.M(j, i) = m;
         }
         if constexpr (j > i) {
-          const Motion<S>& ddS = d.ddS[i];
-          d.dtau_dq(j, i) =
-              row_dot<1, S>(d.dP, j, ddS.v, ddS.w)[0] + row_dot<1, S>(d.dQ, j, dS.v, dS.w)[0];
-          d.dtau_dv(j, i) =
-              S(2) * row_dot<1, S>(d.dP, j, dS.v, dS.w)[0] + row_dot<1, S>(d.dQ, j, Sc.v, Sc.w)[0];
+          const Motion<Scalar>& ddS = dd.ddS[i];
+          dd.dtau_dq(j, i) = row_dot<1, Scalar>(dd.dP, j, ddS.v, ddS.w)[0] +
+                             row_dot<1, Scalar>(dd.dQ, j, dS.v, dS.w)[0];
+          dd.dtau_dv(j, i) = Scalar(2) * row_dot<1, Scalar>(dd.dP, j, dS.v, dS.w)[0] +
+                             row_dot<1, Scalar>(dd.dQ, j, Sc.v, Sc.w)[0];
         }
       }
     });
   }
   // Pairs on different branches: zero (rows and columns past the subtree).
   if constexpr (last + 1 < n) {
-    d.dtau_dq.row(i).template tail<n - last - 1>().setZero();
-    d.dtau_dq.col(i).template tail<n - last - 1>().setZero();
-    d.dtau_dv.row(i).template tail<n - last - 1>().setZero();
-    d.dtau_dv.col(i).template tail<n - last - 1>().setZero();
+    dd.dtau_dq.row(i).template tail<n - last - 1>().setZero();
+    dd.dtau_dq.col(i).template tail<n - last - 1>().setZero();
+    dd.dtau_dv.row(i).template tail<n - last - 1>().setZero();
+    dd.dtau_dv.col(i).template tail<n - last - 1>().setZero();
     if constexpr (WithM) {
       d.M.row(i).template tail<n - last - 1>().setZero();
       d.M.col(i).template tail<n - last - 1>().setZero();
@@ -276,54 +282,54 @@ ARBOR_INLINE void deriv_backward_body(Data<R, S>& d) {
   }
   if constexpr (B::parent >= 0) {
     constexpr int p = B::parent;
-    d.oYcrb[p] += Y;
-    d.oYdot[p] += Yd;
-    d.oh[p] += h;
-    d.of[p] += F;
+    dd.oYcrb[p] += Y;
+    dd.oYdot[p] += Yd;
+    dd.oh[p] += h;
+    dd.of[p] += F;
   }
 }
 
 /// The whole derivative sweep at (q, v, a): data.tau, dtau_dq, dtau_dv and, WithM, data.M.
-template <class R, bool WithM, bool HasFext, class S, class Q, class V, class A>
-ARBOR_INLINE void rnea_derivatives_impl(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
+template <class R, bool WithM, bool HasFext, class Scalar, class Q, class V, class A>
+ARBOR_INLINE void rnea_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd,
+                                        const Eigen::MatrixBase<Q>& q,
                                         const Eigen::MatrixBase<V>& v,
-                                        const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
-                                        const typename Data<R, S>::ForceArray* fext) {
+                                        const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g,
+                                        const typename Data<R, Scalar>::ForceArray* fext) {
   joint_states(d, q);
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    deriv_forward_velocity<R, i, HasFext>(d, v, fext);
-    deriv_forward_acceleration<R, i>(d, v, a, g);
+    deriv_forward_velocity<R, i, HasFext>(d, dd, v, fext);
+    deriv_forward_acceleration<R, i>(d, dd, v, a, g);
   });
-  static_for_reverse<R::nb>([&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d); });
+  static_for_reverse<R::nb>(
+      [&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d, dd); });
 }
 
 }  // namespace detail
 
-/// Derivatives of inverse dynamics tau = ID(q, v, a) (gravity g, optional external forces fext,
-/// one per body in the body frame, held fixed in the body frames):
-/// data.dtau_dq = d tau / d q, data.dtau_dv = d tau / d v, data.M = d tau / d a (full
-/// symmetric), and data.tau = ID(q, v, a). Also leaves data.oMi, data.J (world joint columns),
-/// and the world-frame velocities data.ov and accelerations data.oa. O(n d); no allocation.
-template <Robot R, class S, class Q, class V, class A>
-void rnea_derivatives(Data<R, S>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
-                      const Eigen::MatrixBase<A>& a, const Vec3<S>& g = default_gravity<S>(),
-                      const typename Data<R, S>::ForceArray* fext = nullptr) {
-  static_assert(Q::RowsAtCompileTime == R::nq && V::RowsAtCompileTime == R::nv &&
-                    A::RowsAtCompileTime == R::nv,
-                "q, v, a have the wrong size");
-  if (fext)
-    detail::rnea_derivatives_impl<R, true, true>(d, q, v, a, g, fext);
-  else
-    detail::rnea_derivatives_impl<R, true, false>(d, q, v, a, g, fext);
+/// Derivatives of inverse dynamics tau = ID(q, v, a) with gravity g (world frame):
+/// deriv.dtau_dq = d tau / d q, deriv.dtau_dv = d tau / d v, data.M = d tau / d a (full
+/// symmetric) and data.tau = ID(q, v, a). Also leaves data.oMi, data.J (world joint columns) and
+/// the world-frame velocities deriv.ov and accelerations deriv.oa. O(n d); no allocation.
+template <Robot R, class Scalar, class Q, class V, class A>
+void rnea_derivatives(Data<R, Scalar>& data, DerivativeData<R, Scalar>& deriv,
+                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                      const Eigen::MatrixBase<A>& a,
+                      const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, A>();
+  detail::rnea_derivatives_impl<R, true, false>(data, deriv, q, v, a, g, nullptr);
 }
 
-/// rnea_derivatives with external forces (one per body, body frame) and gravity g.
-template <Robot R, class S, class Q, class V, class A>
-void rnea_derivatives(Data<R, S>& d, const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
-                      const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
-                      const typename Data<R, S>::ForceArray& fext) {
-  rnea_derivatives<R>(d, q, v, a, g, &fext);
+/// rnea_derivatives with external forces fext (one per body, body frame, held fixed in the body
+/// frames).
+template <Robot R, class Scalar, class Q, class V, class A>
+void rnea_derivatives(Data<R, Scalar>& data, DerivativeData<R, Scalar>& deriv,
+                      const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                      const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g,
+                      const ForceArray<R, Scalar>& fext) {
+  detail::check_sizes<R, Q, V, A>();
+  detail::rnea_derivatives_impl<R, true, true>(data, deriv, q, v, a, g, &fext);
 }
 
 }  // namespace arbor

@@ -8,27 +8,23 @@
 
 namespace arbor {
 
-/// Forward dynamics ddq = FD(q, v, tau) by the ABA, gravity g, optional external forces (body
-/// frames). Fills data.v, a, pA, Yaba, U, Dinv, u, ddq; returns data.ddq.
-template <Robot R, class S, class Q, class V, class T>
-const typename Data<R, S>::Vector& aba(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
-                                       const Eigen::MatrixBase<V>& v,
-                                       const Eigen::MatrixBase<T>& tau,
-                                       const Vec3<S>& g = default_gravity<S>(),
-                                       const typename Data<R, S>::ForceArray* fext = nullptr) {
-  static_assert(Q::RowsAtCompileTime == R::nq && V::RowsAtCompileTime == R::nv &&
-                    T::RowsAtCompileTime == R::nv,
-                "q, v, tau have the wrong size");
+namespace detail {
+
+/// The ABA's three passes, with external forces when HasFext.
+template <class R, bool HasFext, class Scalar, class Q, class V, class T>
+ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
+                           const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<T>& tau,
+                           const Vec3<Scalar>& g, const typename Data<R, Scalar>::ForceArray* fext) {
   detail::joint_states(d, q);
   // Pass 1: velocities, velocity-product accelerations c_i (in data.a), bias forces.
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    const JointState<S>& js = d.joint[i];
-    const S vi = S(v[i]);
+    using B = spatial::BodyOps<R, i, Scalar>;
+    const JointState<Scalar>& js = d.joint[i];
+    const Scalar vi = Scalar(v[i]);
     if constexpr (B::parent < 0) {
       d.v[i] = B::S_times(vi);
-      d.a[i] = Motion<S>::Zero();  // v_parent = 0, so c = v x S v = 0
+      d.a[i] = Motion<Scalar>::Zero();  // v_parent = 0, so c = v x S v = 0
     } else {
       d.v[i] = B::motion_to_child(js, d.v[B::parent]);
       B::add_S(d.v[i], vi);
@@ -36,23 +32,23 @@ const typename Data<R, S>::Vector& aba(Data<R, S>& d, const Eigen::MatrixBase<Q>
     }
     d.Yaba[i] = B::art_inertia();
     if constexpr (B::massless)
-      d.pA[i] = Force<S>::Zero();
+      d.pA[i] = Force<Scalar>::Zero();
     else
       d.pA[i] = spatial::cross(d.v[i], B::inertia_times(d.v[i]));
-    if (fext)
+    if constexpr (HasFext)
       d.pA[i] -= (*fext)[i];
   });
   // Pass 2: articulated inertias and bias forces, leaves to root.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
+    using B = spatial::BodyOps<R, i, Scalar>;
     B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
-    d.Dinv[i] = S(1) / B::ST(d.U[i]);
-    d.u[i] = S(tau[i]) - B::ST(d.pA[i]);
+    d.Dinv[i] = Scalar(1) / B::ST(d.U[i]);
+    d.u[i] = Scalar(tau[i]) - B::ST(d.pA[i]);
     if constexpr (B::parent >= 0) {
       // pa = pA + Ya c + U Dinv u with Ya = Y - U Dinv U^T: Ya c = Y c - U Dinv (U . c)
-      const Force<S> pa = d.pA[i] + d.Yaba[i] * d.a[i] +
-                          d.U[i] * (d.Dinv[i] * (d.u[i] - spatial::dot(d.U[i], d.a[i])));
+      const Force<Scalar> pa = d.pA[i] + d.Yaba[i] * d.a[i] +
+                               d.U[i] * (d.Dinv[i] * (d.u[i] - spatial::dot(d.U[i], d.a[i])));
       d.Yaba[B::parent] += B::art_project_to_parent(d.joint[i], d.Yaba[i], d.U[i], d.Dinv[i]);
       d.pA[B::parent] += B::force_to_parent(d.joint[i], pa);
     }
@@ -60,8 +56,8 @@ const typename Data<R, S>::Vector& aba(Data<R, S>& d, const Eigen::MatrixBase<Q>
   // Pass 3: accelerations, root to leaves (the base accelerates by -g).
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    Motion<S> ai;
+    using B = spatial::BodyOps<R, i, Scalar>;
+    Motion<Scalar> ai;
     if constexpr (B::parent < 0) {
       ai.v = B::linear_to_child(d.joint[i], -g) + d.a[i].v;
       ai.w = d.a[i].w;
@@ -72,7 +68,31 @@ const typename Data<R, S>::Vector& aba(Data<R, S>& d, const Eigen::MatrixBase<Q>
     B::add_S(ai, d.ddq[i]);
     d.a[i] = ai;
   });
-  return d.ddq;
+}
+
+}  // namespace detail
+
+/// Forward dynamics ddq = FD(q, v, tau) by the ABA with gravity g (world frame). Fills data.v, a,
+/// pA, Yaba, U, Dinv, u and ddq; returns data.ddq. O(n).
+template <Robot R, class Scalar, class Q, class V, class T>
+const typename Data<R, Scalar>::Vector& aba(Data<R, Scalar>& data, const Eigen::MatrixBase<Q>& q,
+                                            const Eigen::MatrixBase<V>& v,
+                                            const Eigen::MatrixBase<T>& tau,
+                                            const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, T>();
+  detail::aba_impl<R, false>(data, q, v, tau, g, nullptr);
+  return data.ddq;
+}
+
+/// Forward dynamics with external forces fext (one per body, in the body frame).
+template <Robot R, class Scalar, class Q, class V, class T>
+const typename Data<R, Scalar>::Vector& aba(Data<R, Scalar>& data, const Eigen::MatrixBase<Q>& q,
+                                            const Eigen::MatrixBase<V>& v,
+                                            const Eigen::MatrixBase<T>& tau, const Vec3<Scalar>& g,
+                                            const ForceArray<R, Scalar>& fext) {
+  detail::check_sizes<R, Q, V, T>();
+  detail::aba_impl<R, true>(data, q, v, tau, g, &fext);
+  return data.ddq;
 }
 
 }  // namespace arbor

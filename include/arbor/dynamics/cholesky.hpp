@@ -6,15 +6,16 @@
 namespace arbor {
 
 /// Factorizes data.M (call crba first) into data.llt.
-template <Robot R, class S>
-void cholesky_factor(Data<R, S>& d) {
+template <Robot R, class Scalar>
+void cholesky_factor(Data<R, Scalar>& d) {
   d.llt.compute(d.M);
 }
 
 /// Solves M x = b with the factor from cholesky_factor.
-template <Robot R, class S, class B>
-typename Data<R, S>::Vector cholesky_solve(const Data<R, S>& d, const Eigen::MatrixBase<B>& b) {
-  typename Data<R, S>::Vector x = b;
+template <Robot R, class Scalar, class B>
+typename Data<R, Scalar>::Vector cholesky_solve(const Data<R, Scalar>& d,
+                                                const Eigen::MatrixBase<B>& b) {
+  typename Data<R, Scalar>::Vector x = b;
   d.llt.solveInPlace(x);
   return x;
 }

@@ -4,21 +4,21 @@
 #include "arbor/core/static_for.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
-#include "arbor/dynamics/minverse.hpp"
+#include "arbor/model/topology.hpp"
 
 namespace arbor {
 
 namespace detail {
 
 /// Carries the force F = Ycrb_i S_i (expressed in body j) up the ancestors of i, filling M(p, i).
-template <class R, int i, int j, class S>
-ARBOR_INLINE void crba_up(Data<R, S>& d, const Force<S>& F) {
-  using Bj = spatial::BodyOps<R, j, S>;
+template <class R, int i, int j, class Scalar>
+ARBOR_INLINE void crba_up(Data<R, Scalar>& d, const Force<Scalar>& F) {
+  using Bj = spatial::BodyOps<R, j, Scalar>;
   if constexpr (Bj::parent >= 0) {
     constexpr int p = Bj::parent;
-    using Bp = spatial::BodyOps<R, p, S>;
-    const Force<S> Fp = Bj::force_to_parent(d.joint[j], F);
-    const S m = Bp::ST(Fp);
+    using Bp = spatial::BodyOps<R, p, Scalar>;
+    const Force<Scalar> Fp = Bj::force_to_parent(d.joint[j], F);
+    const Scalar m = Bp::ST(Fp);
     d.M(p, i) = m;
     d.M(i, p) = m;
     crba_up<R, i, p>(d, Fp);
@@ -30,14 +30,14 @@ ARBOR_INLINE void crba_up(Data<R, S>& d, const Force<S>& F) {
 inline constexpr int kCrbaBlockFrom = 12;
 
 /// Ycrb S for a rigid (composite) inertia and the motion subspace of body i.
-template <class B, class S>
-ARBOR_INLINE Force<S> inertia_S(const Inertia<S>& Y) {
+template <class B, class Scalar>
+ARBOR_INLINE Force<Scalar> inertia_S(const Inertia<Scalar>& Y) {
   if constexpr (B::aligned) {
     constexpr int k = B::k;
-    Force<S> F;
+    Force<Scalar> F;
     if constexpr (B::revolute) {
       // f = -h x (sign e_k) = sign (e_k x h); n = sign Io e_k
-      F.f[k] = S(0);
+      F.f[k] = Scalar(0);
       F.f[B::ib] = Y.h[B::ia];
       F.f[B::ia] = -Y.h[B::ib];
       F.n = Y.Io.col(k);
@@ -47,9 +47,9 @@ ARBOR_INLINE Force<S> inertia_S(const Inertia<S>& Y) {
       }
     } else {
       F.f.setZero();
-      F.f[k] = Y.m * S(B::sign);
+      F.f[k] = Y.m * Scalar(B::sign);
       // n = h x (sign e_k) = sign (h_b e_a - h_a e_b)
-      F.n[k] = S(0);
+      F.n[k] = Scalar(0);
       F.n[B::ia] = Y.h[B::ib];
       F.n[B::ib] = -Y.h[B::ia];
       if constexpr (B::sign < 0)
@@ -57,7 +57,7 @@ ARBOR_INLINE Force<S> inertia_S(const Inertia<S>& Y) {
     }
     return F;
   } else {
-    return Y * B::S_times(S(1));
+    return Y * B::S_times(Scalar(1));
   }
 }
 
@@ -66,18 +66,18 @@ ARBOR_INLINE Force<S> inertia_S(const Inertia<S>& Y) {
 namespace detail {
 
 /// crba for small trees: each column Ycrb_i S_i carried up the ancestors of i on its own.
-template <class R, class S, class Q>
-ARBOR_INLINE void crba_columns(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+template <class R, class Scalar, class Q>
+ARBOR_INLINE void crba_columns(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
   detail::joint_states(d, q);
   d.M.setZero();
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    d.Ycrb[i] = spatial::BodyOps<R, i, S>::inertia();
+    d.Ycrb[i] = spatial::BodyOps<R, i, Scalar>::inertia();
   });
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    const Force<S> F = detail::inertia_S<B>(d.Ycrb[i]);
+    using B = spatial::BodyOps<R, i, Scalar>;
+    const Force<Scalar> F = detail::inertia_S<B>(d.Ycrb[i]);
     d.M(i, i) = B::ST(F);
     detail::crba_up<R, i, i>(d, F);
     if constexpr (B::parent >= 0)
@@ -87,24 +87,24 @@ ARBOR_INLINE void crba_columns(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
 
 /// crba for larger trees: the forces Ycrb_j S_j of the subtree of i are carried to each
 /// ancestor as one row-major block of columns (data.Fminv), one sparse transform for all.
-template <class R, class S, class Q>
-ARBOR_INLINE void crba_blocks(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+template <class R, class Scalar, class Q>
+ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
   constexpr int n = R::nv;
   detail::joint_states(d, q);
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    d.Ycrb[i] = spatial::BodyOps<R, i, S>::inertia();
-    constexpr int last = detail::subtree_last<R>(i);
+    d.Ycrb[i] = spatial::BodyOps<R, i, Scalar>::inertia();
+    constexpr int last = model::subtree_last<R>(i);
     d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    constexpr int L = detail::subtree_last<R>(i) - i + 1;
-    using Row = Eigen::Matrix<S, 1, L>;
+    using B = spatial::BodyOps<R, i, Scalar>;
+    constexpr int L = model::subtree_last<R>(i) - i + 1;
+    using Row = Eigen::Matrix<Scalar, 1, L>;
     using Tri = typename B::template Tri<Row>;
     auto blk = d.Fminv[i].template middleCols<L>(i);
-    const Force<S> F = detail::inertia_S<B>(d.Ycrb[i]);
+    const Force<Scalar> F = detail::inertia_S<B>(d.Ycrb[i]);
     for (int j = 0; j < 3; ++j) {
       blk(j, 0) = F.f[j];
       blk(3 + j, 0) = F.n[j];
@@ -133,8 +133,8 @@ ARBOR_INLINE void crba_blocks(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
 }  // namespace detail
 
 /// Joint-space inertia matrix M(q) (full symmetric) in data.M; returns it.
-template <Robot R, class S, class Q>
-const typename Data<R, S>::Matrix& crba(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+template <Robot R, class Scalar, class Q>
+const typename Data<R, Scalar>::Matrix& crba(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
   static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
   if constexpr (R::nv < detail::kCrbaBlockFrom)
     detail::crba_columns(d, q);

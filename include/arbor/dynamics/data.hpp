@@ -1,15 +1,20 @@
-// arbor: the fixed-size workspace of the rigid-body algorithms. No allocation, default
-// constructible; one Data per robot and scalar type, reused across calls.
+// arbor: Data, the caller-owned workspace of the rigid-body dynamics algorithms (kinematics,
+// Jacobians, rnea, aba, crba, minverse). Fixed size, no allocation, default constructible; one
+// per robot and scalar type, reused across calls. The derivative routines need a second
+// workspace, DerivativeData (derivatives/derivative_data.hpp), so that firmware which runs only
+// the dynamics does not pay for the derivatives' arrays.
 #pragma once
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <array>
+#include <cstddef>
 
 #include "arbor/model/robot.hpp"
+#include "arbor/spatial/articulated_inertia.hpp"
 #include "arbor/spatial/fwd.hpp"
 #include "arbor/spatial/inertia.hpp"
-#include "arbor/spatial/joint.hpp"
+#include "arbor/spatial/joint_state.hpp"
 #include "arbor/spatial/motion.hpp"
 #include "arbor/spatial/se3.hpp"
 
@@ -28,61 +33,59 @@ enum class ReferenceFrame {
   local_world_aligned,  ///< at the frame origin, with world axes
 };
 
-/// Workspace of every algorithm for robot R and scalar S. Body quantities are in body frames
-/// (as in Pinocchio's local convention) unless named o* (world).
-template <class R, class S = double>
+/// Short name of a reference frame, for logs and test messages.
+constexpr const char* to_string(ReferenceFrame rf) {
+  switch (rf) {
+    case ReferenceFrame::world:
+      return "world";
+    case ReferenceFrame::local:
+      return "local";
+    case ReferenceFrame::local_world_aligned:
+      return "local_world_aligned";
+  }
+  return "unknown";
+}
+
+/// External forces on robot R, one per body, each in its body frame.
+template <class R, class Scalar>
+using ForceArray = std::array<Force<Scalar>, std::size_t(R::nb)>;
+
+/// Workspace of the dynamics algorithms for robot R and scalar type Scalar_. Body quantities are
+/// in body frames (as in Pinocchio's local convention) unless named o* (world).
+template <class R, class Scalar_ = double>
 struct Data {
   static constexpr int nb = R::nb;  ///< bodies
   static constexpr int nv = R::nv;  ///< DoF
   static constexpr int nf = R::nf;  ///< operational frames
-  using Scalar = S;
-  using Vector = VecN<S, nv>;
-  using Matrix = MatN<S, nv>;
-  using Matrix6x = Mat6N<S, nv>;
+  using Scalar = Scalar_;
+  using Vector = VecN<Scalar, nv>;
+  using Matrix = MatN<Scalar, nv>;
+  using Matrix6x = Mat6N<Scalar, nv>;
   /// External forces, one per body, in the body frame.
-  using ForceArray = std::array<Force<S>, std::size_t(nb)>;
+  using ForceArray = arbor::ForceArray<R, Scalar>;
+  /// 6 x nv work block, row-major when nv > 1 (rows contiguous: sweeps run along rows).
+  using RowBlock = Eigen::Matrix<Scalar, 6, nv, (nv == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
 
-  std::array<JointState<S>, nb> joint;  ///< cos/sin or displacement of each joint
-  std::array<SE3<S>, nb> liMi;          ///< placement of body i in its parent body
-  std::array<SE3<S>, nb> oMi;           ///< placement of body i in the world
-  std::array<SE3<S>, nf> oMf;           ///< placement of each operational frame in the world
-  std::array<Motion<S>, nb> v;          ///< body spatial velocities (body frame)
-  std::array<Motion<S>, nb> a;      ///< body spatial accelerations (body frame; rnea: + gravity)
-  std::array<Force<S>, nb> f;       ///< forces transmitted by each joint (body frame)
-  Vector tau;                       ///< joint torques (rnea, gravity, nle)
-  Vector ddq;                       ///< joint accelerations (aba)
-  Matrix M;                         ///< joint-space inertia matrix (crba), full symmetric
-  Matrix Minv;                      ///< inverse of M (minverse), full symmetric
-  Matrix6x J;                       ///< joint Jacobians in the world frame (columns = oMi S)
-  std::array<Inertia<S>, nb> Ycrb;  ///< composite rigid-body inertias (crba, body frame)
-  std::array<spatial::ArticulatedInertia<S>, nb> Yaba;  ///< articulated inertias (aba, minverse)
-  std::array<Force<S>, nb> pA;                          ///< articulated bias forces (aba)
-  std::array<Force<S>, nb> U;                           ///< Yaba S of each joint (aba, minverse)
-  std::array<S, nb> Dinv;                               ///< 1 / (S^T Yaba S) (aba, minverse)
-  std::array<S, nb> u;                                  ///< tau - S^T pA (aba)
-  /// Per-body 6 x nv work blocks of crba and minverse (row-major: rows are contiguous).
-  std::array<Eigen::Matrix<S, 6, nv, (nv == 1 ? Eigen::ColMajor : Eigen::RowMajor)>, nb> Fminv;
-  Eigen::LLT<Matrix> llt;  ///< Cholesky factor of M (cholesky_solve)
-
-  // ---- first-order derivatives (include/arbor/derivatives) -----------------------------------
-  /// 6 x nv work block, row-major (rows contiguous; the derivative sweeps run along rows).
-  using RowBlock = Eigen::Matrix<S, 6, nv, (nv == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
-  Matrix dtau_dq;                    ///< d tau / d q (rnea_derivatives)
-  Matrix dtau_dv;                    ///< d tau / d v (rnea_derivatives; d tau / d a is M)
-  Matrix ddq_dq;                     ///< d ddq / d q (aba_derivatives)
-  Matrix ddq_dv;                     ///< d ddq / d v (aba_derivatives; d ddq / d tau is Minv)
-  std::array<Motion<S>, nb> ov;      ///< body spatial velocities (world frame)
-  std::array<Motion<S>, nb> oa;      ///< body spatial accelerations + gravity (world frame)
-  std::array<Motion<S>, nb> dS;      ///< v_parent x S: d/dt of each joint's world column
-  std::array<Motion<S>, nb> ddS;     ///< a_parent x S + v_parent x dS (world frame)
-  std::array<Inertia<S>, nb> oYcrb;  ///< composite inertias (world frame)
-  std::array<spatial::InertiaRate<S>, nb> oYdot;  ///< their time derivatives (world frame)
-  std::array<Force<S>, nb> oh;                    ///< composite momenta (world frame)
-  std::array<Force<S>, nb> of;  ///< composite forces: subtree's net force (world frame)
-  RowBlock dP;                  ///< column j: Ycrb_j S_j (world; column j of M)
-  RowBlock dQ;                  ///< column j: 2 B_j^T S_j (world; Coriolis-like term)
-  RowBlock dG;                  ///< column j: d f_j / d q_j for the ancestors' rows
-  RowBlock dH;                  ///< column j: d f_j / d v_j for the ancestors' rows
+  std::array<JointState<Scalar>, nb> joint;  ///< cos/sin or displacement of each joint
+  std::array<SE3<Scalar>, nb> liMi;          ///< placement of body i in its parent body
+  std::array<SE3<Scalar>, nb> oMi;           ///< placement of body i in the world
+  std::array<SE3<Scalar>, nf> oMf;           ///< placement of each operational frame in the world
+  std::array<Motion<Scalar>, nb> v;          ///< body spatial velocities (body frame)
+  std::array<Motion<Scalar>, nb> a;  ///< body spatial accelerations (body frame; rnea: + gravity)
+  std::array<Force<Scalar>, nb> f;   ///< forces transmitted by each joint (body frame)
+  Vector tau;                        ///< joint torques (rnea, gravity, nle)
+  Vector ddq;                        ///< joint accelerations (aba)
+  Matrix M;                          ///< joint-space inertia matrix (crba), full symmetric
+  Matrix Minv;                       ///< inverse of M (minverse), full symmetric
+  Matrix6x J;                        ///< joint Jacobians in the world frame (columns = oMi S)
+  std::array<Inertia<Scalar>, nb> Ycrb;  ///< composite rigid-body inertias (crba, body frame)
+  std::array<spatial::ArticulatedInertia<Scalar>, nb> Yaba;  ///< articulated inertias (aba)
+  std::array<Force<Scalar>, nb> pA;                          ///< articulated bias forces (aba)
+  std::array<Force<Scalar>, nb> U;  ///< Yaba S of each joint (aba, minverse)
+  std::array<Scalar, nb> Dinv;      ///< 1 / (S^T Yaba S) (aba, minverse)
+  std::array<Scalar, nb> u;         ///< tau - S^T pA (aba)
+  std::array<RowBlock, nb> Fminv;   ///< per-body 6 x nv work blocks of crba and minverse
+  Eigen::LLT<Matrix> llt;           ///< Cholesky factor of M (cholesky_factor)
 };
 
 }  // namespace arbor

@@ -9,69 +9,38 @@
 #include "arbor/dynamics/aba.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/model/topology.hpp"
 
 namespace arbor {
 
-namespace detail {
-
-/// Largest body index in the subtree of body i (subtree members are all in [i, last]).
-template <class R>
-constexpr int subtree_last(int i) {
-  int last = i;
-  for (int j = i + 1; j < R::nb; ++j) {
-    int p = R::parent[j];
-    while (p > i)
-      p = R::parent[p];
-    if (p == i)
-      last = j;
-  }
-  return last;
-}
-
-/// True when the subtree of body i is exactly the bodies [i, subtree_last(i)] (always so for
-/// the generator's depth-first numbering; any topological order is allowed by the model).
-template <class R>
-constexpr bool subtree_contiguous(int i) {
-  const int last = subtree_last<R>(i);
-  for (int j = i + 1; j <= last; ++j) {
-    int p = R::parent[j];
-    while (p > i)
-      p = R::parent[p];
-    if (p != i)
-      return false;
-  }
-  return true;
-}
-
-}  // namespace detail
-
 /// M(q)^-1 (full symmetric) in data.Minv; returns it.
-template <Robot R, class S, class Q>
-const typename Data<R, S>::Matrix& minverse(Data<R, S>& d, const Eigen::MatrixBase<Q>& q) {
+template <Robot R, class Scalar, class Q>
+const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
+                                                 const Eigen::MatrixBase<Q>& q) {
   static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
   constexpr int n = R::nv;
   detail::joint_states(d, q);
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
+    using B = spatial::BodyOps<R, i, Scalar>;
     d.Yaba[i] = B::art_inertia();
-    constexpr int last = detail::subtree_last<R>(i);
+    constexpr int last = model::subtree_last<R>(i);
     d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
   // Backward pass: columns [i, last] (the subtree of i) of the bias-force blocks.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    constexpr int L = detail::subtree_last<R>(i) - i + 1;
-    using Row = Eigen::Matrix<S, 1, L>;
+    using B = spatial::BodyOps<R, i, Scalar>;
+    constexpr int L = model::subtree_last<R>(i) - i + 1;
+    using Row = Eigen::Matrix<Scalar, 1, L>;
     using Tri = typename B::template Tri<Row>;
     B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
-    const S Dinv = S(1) / B::ST(d.U[i]);
+    const Scalar Dinv = Scalar(1) / B::ST(d.U[i]);
     d.Dinv[i] = Dinv;
     auto blk = d.Fminv[i].template middleCols<L>(i);
     Tri f{blk.row(0), blk.row(1), blk.row(2)};
     Tri t{blk.row(3), blk.row(4), blk.row(5)};
-    Row mrow = B::ST_t(f, t) * S(-Dinv);
+    Row mrow = B::ST_t(f, t) * Scalar(-Dinv);
     mrow[0] = Dinv;  // column i: the unit torque at i itself (no bias force from below)
     d.Minv.row(i).template segment<L>(i) = mrow;
     if constexpr (i + L < n)
@@ -94,9 +63,9 @@ const typename Data<R, S>::Matrix& minverse(Data<R, S>& d, const Eigen::MatrixBa
   // Forward pass: rows i, columns [i, n) of M^-1 and of the acceleration blocks.
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
+    using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = n - i;
-    using Row = Eigen::Matrix<S, 1, L>;
+    using Row = Eigen::Matrix<Scalar, 1, L>;
     using Tri = typename B::template Tri<Row>;
     Row mrow = d.Minv.row(i).template tail<L>();
     Tri v, w;

@@ -8,40 +8,41 @@
 namespace arbor {
 
 /// Gravity vector used when none is given [m/s^2], in the world (= fixed base) frame.
-template <class S>
-inline Vec3<S> default_gravity() {
-  return Vec3<S>(S(0), S(0), S(-9.81));
+template <class Scalar>
+inline Vec3<Scalar> default_gravity() {
+  return Vec3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));
 }
 
 namespace detail {
 
 /// One RNEA with compile-time switches for the terms present.
-template <class R, bool HasV, bool HasA, bool HasFext, class S, class Q, class V, class A>
-ARBOR_INLINE void rnea_impl(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
+template <class R, bool HasV, bool HasA, bool HasFext, class Scalar, class Q, class V, class A>
+ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
                             const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<A>& a,
-                            const Vec3<S>& g, const typename Data<R, S>::ForceArray* fext) {
+                            const Vec3<Scalar>& g,
+                            const typename Data<R, Scalar>::ForceArray* fext) {
   joint_states(d, q);
   // Forward pass: velocities, accelerations (the base accelerates by -g), body forces.
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
-    const JointState<S>& js = d.joint[i];
+    using B = spatial::BodyOps<R, i, Scalar>;
+    const JointState<Scalar>& js = d.joint[i];
     if constexpr (B::parent < 0) {
       if constexpr (HasV)
-        d.v[i] = B::S_times(S(v[i]));
+        d.v[i] = B::S_times(Scalar(v[i]));
       d.a[i].v = B::linear_to_child(js, -g);
       d.a[i].w.setZero();
     } else {
       if constexpr (HasV) {
         d.v[i] = B::motion_to_child(js, d.v[B::parent]);
-        B::add_S(d.v[i], S(v[i]));
+        B::add_S(d.v[i], Scalar(v[i]));
       }
       d.a[i] = B::motion_to_child(js, d.a[B::parent]);
     }
     if constexpr (HasV)
-      d.a[i] += B::cross_S(d.v[i], S(v[i]));
+      d.a[i] += B::cross_S(d.v[i], Scalar(v[i]));
     if constexpr (HasA)
-      B::add_S(d.a[i], S(a[i]));
+      B::add_S(d.a[i], Scalar(a[i]));
     d.f[i] = B::inertia_times(d.a[i]);
     if constexpr (HasV) {
       if constexpr (!B::massless)
@@ -53,7 +54,7 @@ ARBOR_INLINE void rnea_impl(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
   // Backward pass: joint torques, forces to the parents.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, S>;
+    using B = spatial::BodyOps<R, i, Scalar>;
     d.tau[i] = B::ST(d.f[i]);
     if constexpr (B::parent >= 0)
       d.f[B::parent] += B::force_to_parent(d.joint[i], d.f[i]);
@@ -62,49 +63,47 @@ ARBOR_INLINE void rnea_impl(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
 
 }  // namespace detail
 
-/// Inverse dynamics tau = ID(q, v, a) with gravity g (world frame) and optional external forces
-/// fext (one per body, in the body frame; nullptr for none). Fills data.v, a, f, tau.
-template <Robot R, class S, class Q, class V, class A>
-const typename Data<R, S>::Vector& rnea(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
-                                        const Eigen::MatrixBase<V>& v,
-                                        const Eigen::MatrixBase<A>& a,
-                                        const Vec3<S>& g = default_gravity<S>(),
-                                        const typename Data<R, S>::ForceArray* fext = nullptr) {
-  static_assert(Q::RowsAtCompileTime == R::nq && V::RowsAtCompileTime == R::nv &&
-                    A::RowsAtCompileTime == R::nv,
-                "q, v, a have the wrong size");
-  if (fext)
-    detail::rnea_impl<R, true, true, true>(d, q, v, a, g, fext);
-  else
-    detail::rnea_impl<R, true, true, false>(d, q, v, a, g, fext);
-  return d.tau;
+/// Inverse dynamics tau = ID(q, v, a) with gravity g (world frame). Fills data.v, a, f and tau;
+/// returns data.tau.
+template <Robot R, class Scalar, class Q, class V, class A>
+const typename Data<R, Scalar>::Vector& rnea(Data<R, Scalar>& data, const Eigen::MatrixBase<Q>& q,
+                                             const Eigen::MatrixBase<V>& v,
+                                             const Eigen::MatrixBase<A>& a,
+                                             const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, A>();
+  detail::rnea_impl<R, true, true, false>(data, q, v, a, g, nullptr);
+  return data.tau;
 }
 
-/// Inverse dynamics with external forces (one per body, body frame) and gravity g.
-template <Robot R, class S, class Q, class V, class A>
-const typename Data<R, S>::Vector& rnea(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
-                                        const Eigen::MatrixBase<V>& v,
-                                        const Eigen::MatrixBase<A>& a, const Vec3<S>& g,
-                                        const typename Data<R, S>::ForceArray& fext) {
-  detail::rnea_impl<R, true, true, true>(d, q, v, a, g, &fext);
-  return d.tau;
+/// Inverse dynamics with external forces fext (one per body, in the body frame).
+template <Robot R, class Scalar, class Q, class V, class A>
+const typename Data<R, Scalar>::Vector& rnea(Data<R, Scalar>& data, const Eigen::MatrixBase<Q>& q,
+                                             const Eigen::MatrixBase<V>& v,
+                                             const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g,
+                                             const ForceArray<R, Scalar>& fext) {
+  detail::check_sizes<R, Q, V, A>();
+  detail::rnea_impl<R, true, true, true>(data, q, v, a, g, &fext);
+  return data.tau;
 }
 
-/// Generalized gravity g(q) = ID(q, 0, 0).
-template <Robot R, class S, class Q>
-const typename Data<R, S>::Vector& gravity(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
-                                           const Vec3<S>& g = default_gravity<S>()) {
-  detail::rnea_impl<R, false, false, false>(d, q, q, q, g, nullptr);
-  return d.tau;
+/// Generalized gravity g(q) = ID(q, 0, 0) in data.tau; returns it.
+template <Robot R, class Scalar, class Q>
+const typename Data<R, Scalar>::Vector& gravity(Data<R, Scalar>& data,
+                                                const Eigen::MatrixBase<Q>& q,
+                                                const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
+  detail::rnea_impl<R, false, false, false>(data, q, q, q, g, nullptr);
+  return data.tau;
 }
 
-/// Nonlinear effects C(q, v) v + g(q) = ID(q, v, 0).
-template <Robot R, class S, class Q, class V>
-const typename Data<R, S>::Vector& nle(Data<R, S>& d, const Eigen::MatrixBase<Q>& q,
-                                       const Eigen::MatrixBase<V>& v,
-                                       const Vec3<S>& g = default_gravity<S>()) {
-  detail::rnea_impl<R, true, false, false>(d, q, v, v, g, nullptr);
-  return d.tau;
+/// Nonlinear effects C(q, v) v + g(q) = ID(q, v, 0) in data.tau; returns it.
+template <Robot R, class Scalar, class Q, class V>
+const typename Data<R, Scalar>::Vector& nle(Data<R, Scalar>& data, const Eigen::MatrixBase<Q>& q,
+                                            const Eigen::MatrixBase<V>& v,
+                                            const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, V>();
+  detail::rnea_impl<R, true, false, false>(data, q, v, v, g, nullptr);
+  return data.tau;
 }
 
 }  // namespace arbor
