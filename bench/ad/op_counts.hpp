@@ -13,11 +13,14 @@
 //   J_ID^a  rnea_derivatives<R>                        (value, Jacobian and M)
 #pragma once
 
+#include <arbor/ad/contracted_hessian.hpp>
 #include <arbor/ad/dual.hpp>
-#include "op_count.hpp"
 #include <arbor/ad/rbd_functions.hpp>
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include "op_count.hpp"
 
 namespace arbor::bench_ad {
 
@@ -70,7 +73,9 @@ template <class F, class Tag>
 Count count_jacobian(const VecN<ad::Counted, F::nin>& x) {
   VecN<ad::Counted, F::nout> y;
   static Eigen::Matrix<ad::Counted, F::nout, F::nin> J;
-  return measure([&] { ad::jacobian<Tag, F>(x, y, J); }, y, J);
+  auto ws = std::make_unique<ad::JacobianWorkspace<F, Tag, ad::Counted>>();
+  const auto f = ad::bind<F>(*ws);
+  return measure([&] { f.template value_and_jacobian<Tag>(x, y, J); }, y, J);
 }
 
 template <class F, class Tag>
@@ -78,7 +83,9 @@ Count count_hessian(const VecN<ad::Counted, F::nin>& x) {
   const VecN<ad::Counted, F::nout> lambda = symbolic_inputs<F::nout>(0.1);
   VecN<ad::Counted, F::nout> y;
   static Eigen::Matrix<ad::Counted, F::nin, F::nin> H;
-  return measure([&] { ad::hessian<Tag, F>(x, lambda, y, H); }, y, H);
+  auto ws = std::make_unique<ad::HessianWorkspace<F, Tag, ad::Counted>>();
+  const auto f = ad::bind<F>(*ws);
+  return measure([&] { ad::contracted_hessian<Tag>(f, x, lambda, y, H); }, y, H);
 }
 
 template <class R, bool Hessians>
@@ -88,8 +95,9 @@ OpCounts op_counts() {
   const auto x = symbolic_inputs<3 * R::nv>(0.0);
   OpCounts c;
   VecN<ad::Counted, R::nv> y;
-  c.fd = measure([&] { FD::value(x, y); }, y);
-  c.id = measure([&] { ID::value(x, y); }, y);
+  auto ws = std::make_unique<ad::ValueWorkspace<FD, ad::Counted>>();
+  c.fd = measure([&] { ad::bind<FD>(*ws).value(x, y); }, y);
+  c.id = measure([&] { ad::bind<ID>(*ws).value(x, y); }, y);
   c.jfd_c = count_jacobian<FD, ad::AutoDiff>(x);
   c.jfd_a = count_jacobian<FD, ad::Analytical>(x);
   c.jid_c = count_jacobian<ID, ad::AutoDiff>(x);

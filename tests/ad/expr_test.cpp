@@ -780,15 +780,19 @@ TEST(ExprCall, ForwardDynamicsProviders_DoublePendulum) {
                 tc = counted_inputs<2>(dp_u());
   const auto qd = seeded<6, 2>(qc, 0), vd = seeded<6, 2>(vc, 2), td = seeded<6, 2>(tc, 4);
   auto dc = std::make_unique<arbor::Data<R, ad::Counted>>();
+  auto gc = std::make_unique<arbor::DerivativeData<R, ad::Counted>>();
   auto dd = std::make_unique<arbor::Data<R, D>>();
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical, ad::Counted>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff, ad::Counted>>();
   check_providers<2, 6>(
-      ad::call<ad::Analytical>(F{}, q, v, tau), ad::call<ad::AutoDiff>(F{}, q, v, tau),
+      ad::call<ad::Analytical>(ad::bind<F>(*wa), q, v, tau),
+      ad::call<ad::AutoDiff>(ad::bind<F>(*wc), q, v, tau),
       [&] { return values_of(arbor::aba<R>(*dc, qc, vc, tc)); },
       [&] {
-        arbor::aba_derivatives<R>(*dc, qc, vc, tc);
+        arbor::aba_derivatives<R>(*dc, *gc, qc, vc, tc);
         Measured<2, 6> r;
         r.value = values_of(dc->ddq);
-        r.jacobian << values_of(dc->ddq_dq), values_of(dc->ddq_dv), values_of(dc->Minv);
+        r.jacobian << values_of(gc->ddq_dq), values_of(gc->ddq_dv), values_of(dc->Minv);
         return r;
       },
       [&] { return from_duals<2, 6>(arbor::aba<R>(*dd, qd, vd, td)); }, qc, vc, tc);
@@ -805,6 +809,9 @@ TEST(ExprCall, SeededArgumentsScatterJacobianColumns) {
   constexpr ad::Symbol<1, 2> b;
   const CVec<2> qc = counted_inputs<2>(dp_q()), tc = counted_inputs<2>(dp_u());
   auto dc = std::make_unique<arbor::Data<R, ad::Counted>>();
+  auto gc = std::make_unique<arbor::DerivativeData<R, ad::Counted>>();
+  auto w = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical, ad::Counted>>();
+  const auto f = ad::bind<F>(*w);
   Mat<2, 4> J_twice, J_general;
   Mat<2, 2> J_q_only;
   std::uint64_t ops_twice = 0, ops_q_only = 0, ops_ref = 0;
@@ -813,17 +820,17 @@ TEST(ExprCall, SeededArgumentsScatterJacobianColumns) {
     NoAllocScope guard;
     // ddq(q, v = q, tau): d/dq = ddq_dq + ddq_dv, d/dtau = Minv
     ad::reset_op_tally();
-    J_twice = values_of(ad::jacobian(ad::call<ad::Analytical>(F{}, a, a, b), qc, tc));
+    J_twice = values_of(ad::jacobian(ad::call<ad::Analytical>(f, a, a, b), qc, tc));
     ops_twice = ad::op_tally().total();
-    J_general = values_of(ad::jacobian(ad::call<ad::Analytical>(F{}, 1.0 * a, a, b), qc, tc));
+    J_general = values_of(ad::jacobian(ad::call<ad::Analytical>(f, 1.0 * a, a, b), qc, tc));
     // with respect to a only (b is a parameter)
     ad::reset_op_tally();
-    J_q_only = values_of(ad::jacobian<0>(ad::call<ad::Analytical>(F{}, a, a, b), qc, tc));
+    J_q_only = values_of(ad::jacobian<0>(ad::call<ad::Analytical>(f, a, a, b), qc, tc));
     ops_q_only = ad::op_tally().total();
     ad::reset_op_tally();
-    arbor::aba_derivatives<R>(*dc, qc, qc, tc);
+    arbor::aba_derivatives<R>(*dc, *gc, qc, qc, tc);
     ops_ref = ad::op_tally().total();
-    ref << values_of(dc->ddq_dq), values_of(dc->ddq_dv), values_of(dc->Minv);
+    ref << values_of(gc->ddq_dq), values_of(gc->ddq_dv), values_of(dc->Minv);
   }
   Mat<2, 4> expected;
   expected << ref.leftCols<2>() + ref.middleCols<2>(2), ref.rightCols<2>();
@@ -846,15 +853,19 @@ TEST(ExprCall, InverseDynamicsProviders_DoublePendulum) {
                 ac = counted_inputs<2>(dp_u());
   const auto qd = seeded<6, 2>(qc, 0), vd = seeded<6, 2>(vc, 2), add = seeded<6, 2>(ac, 4);
   auto dc = std::make_unique<arbor::Data<R, ad::Counted>>();
+  auto gc = std::make_unique<arbor::DerivativeData<R, ad::Counted>>();
   auto dd = std::make_unique<arbor::Data<R, D>>();
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical, ad::Counted>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff, ad::Counted>>();
   check_providers<2, 6>(
-      ad::call<ad::Analytical>(F{}, q, v, acc), ad::call<ad::AutoDiff>(F{}, q, v, acc),
+      ad::call<ad::Analytical>(ad::bind<F>(*wa), q, v, acc),
+      ad::call<ad::AutoDiff>(ad::bind<F>(*wc), q, v, acc),
       [&] { return values_of(arbor::rnea<R>(*dc, qc, vc, ac)); },
       [&] {
-        arbor::rnea_derivatives<R>(*dc, qc, vc, ac);
+        arbor::rnea_derivatives<R>(*dc, *gc, qc, vc, ac);
         Measured<2, 6> r;
         r.value = values_of(dc->tau);
-        r.jacobian << values_of(dc->dtau_dq), values_of(dc->dtau_dv), values_of(dc->M);
+        r.jacobian << values_of(gc->dtau_dq), values_of(gc->dtau_dv), values_of(dc->M);
         return r;
       },
       [&] { return from_duals<2, 6>(arbor::rnea<R>(*dd, qd, vd, add)); }, qc, vc, ac);
@@ -870,8 +881,10 @@ TEST(ExprCall, FramePositionProviders_DoublePendulum) {
   const auto qd = seeded<2, 2>(qc, 0);
   auto dc = std::make_unique<arbor::Data<R, ad::Counted>>();
   auto dd = std::make_unique<arbor::Data<R, D>>();
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical, ad::Counted>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff, ad::Counted>>();
   check_providers<3, 2>(
-      ad::call<ad::Analytical>(F{}, q), ad::call<ad::AutoDiff>(F{}, q),
+      ad::call<ad::Analytical>(ad::bind<F>(*wa), q), ad::call<ad::AutoDiff>(ad::bind<F>(*wc), q),
       [&] {
         arbor::forward_kinematics<R>(*dc, qc);
         return values_of(arbor::frame_placement<R>(*dc, frame).p);
@@ -899,14 +912,18 @@ TEST(ExprCall, FramePositionJacobianAtDouble_KinovaGen3) {
   constexpr ad::Symbol<0, 7> q;
   const Vec<7> qv = kinova_q();
   auto d = std::make_unique<arbor::Data<R, double>>();
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff>>();
+  const auto fa = ad::bind<F>(*wa);
+  const auto fc = ad::bind<F>(*wc);
   ad::ValueJacobian<double, 3, 7> a, c;
   Mat<3, 7> J = Mat<3, 7>::Zero();
   Vec<3> y;
   {
     NoAllocScope guard;
-    y = ad::evaluate(ad::call<ad::Analytical>(F{}, q), qv);
-    a = ad::value_and_jacobian(ad::call<ad::Analytical>(F{}, q), qv);
-    c = ad::value_and_jacobian(ad::call<ad::AutoDiff>(F{}, q), qv);
+    y = ad::evaluate(ad::call<ad::Analytical>(fa, q), qv);
+    a = ad::value_and_jacobian(ad::call<ad::Analytical>(fa, q), qv);
+    c = ad::value_and_jacobian(ad::call<ad::AutoDiff>(fc, q), qv);
     arbor::compute_frame_position_derivative<R>(*d, qv, frame, J);
   }
   const Vec<3> p = d->oMf[frame].p;
@@ -927,11 +944,13 @@ TEST(ExprCall, ChainRuleThroughTheNode) {
   Vec<7> q0;
   q0 << 0.2, -0.1, 0.3, 0.05, -0.4, 0.6, 0.1;
   auto d = std::make_unique<arbor::Data<R, double>>();
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff>>();
   Mat<3, 7> Ja, Jc, J = Mat<3, 7>::Zero();
   {
     NoAllocScope guard;
-    Ja = ad::jacobian(ad::call<ad::Analytical>(F{}, 0.5 * q + ad::constant(q0)), qv);
-    Jc = ad::jacobian(ad::call<ad::AutoDiff>(F{}, 0.5 * q + ad::constant(q0)), qv);
+    Ja = ad::jacobian(ad::call<ad::Analytical>(ad::bind<F>(*wa), 0.5 * q + ad::constant(q0)), qv);
+    Jc = ad::jacobian(ad::call<ad::AutoDiff>(ad::bind<F>(*wc), 0.5 * q + ad::constant(q0)), qv);
     arbor::compute_frame_position_derivative<R>(*d, (0.5 * qv + q0).eval(), frame, J);
   }
   ARBOR_EXPECT_REL(Ja, (0.5 * J).eval(), 1e-15);
@@ -953,14 +972,22 @@ Vec<3> helix(double s) {
   return helix_centre() + Vec<3>(kRadius * std::cos(s), kRadius * std::sin(s), kPitch * s);
 }
 
-/// |p_ee(q) - p_ref(s)|^2 as an expression, Jacobian of the node from provider Tag.
+using EeFunction = ad::FramePosition<Kinova, kEe>;
+/// What path_cost<Tag> needs: gradients at double (the node at double) and Hessians over the 8
+/// directions (q, s) (the node at Dual<double, 8>).
 template <class Tag>
-auto path_cost() {
+using PathWorkspace =
+    ad::MergedWorkspace<ad::JacobianWorkspace<EeFunction, Tag, double>,
+                        ad::JacobianWorkspace<EeFunction, Tag, ad::Dual<double, 8>>>;
+
+/// |p_ee(q) - p_ref(s)|^2 as an expression, Jacobian of the node from provider Tag, on ws.
+template <class Tag>
+auto path_cost(PathWorkspace<Tag>& ws) {
   constexpr ad::Symbol<0, 7> q;
   constexpr ad::Symbol<1, 1> s;
   const auto p_ref = ad::constant(helix_centre()) +
                      ad::cat(kRadius * ad::cos(s), kRadius * ad::sin(s), kPitch * s);
-  const auto e = ad::call<Tag>(ad::FramePosition<Kinova, kEe>{}, q) - p_ref;
+  const auto e = ad::call<Tag>(ad::bind<EeFunction>(ws), q) - p_ref;
   return ad::squared_norm(e);
 }
 
@@ -978,7 +1005,8 @@ class ExprPathError : public ::testing::Test {
   }
   template <class Tag>
   void check() {
-    const auto f = path_cost<Tag>();
+    auto ws = std::make_unique<PathWorkspace<Tag>>();
+    const auto f = path_cost<Tag>(*ws);
     ad::ValueGradientHessian<double, 8> r;
     ARBOR_EXPECT_NO_ALLOC(r = ad::value_gradient_hessian(f, q0, s0));
     // value, and gradient by hand: 2 J^T e (J from the analytical routine), -2 e^T p_ref'(s)
@@ -1033,11 +1061,13 @@ TEST_F(ExprPathError, AutoDiff) {
 }
 
 TEST_F(ExprPathError, ProvidersAgree) {
+  auto wa = std::make_unique<PathWorkspace<ad::Analytical>>();
+  auto wc = std::make_unique<PathWorkspace<ad::AutoDiff>>();
   ad::ValueGradientHessian<double, 8> a, c;
   {
     NoAllocScope guard;
-    a = ad::value_gradient_hessian(path_cost<ad::Analytical>(), q0, s0);
-    c = ad::value_gradient_hessian(path_cost<ad::AutoDiff>(), q0, s0);
+    a = ad::value_gradient_hessian(path_cost<ad::Analytical>(*wa), q0, s0);
+    c = ad::value_gradient_hessian(path_cost<ad::AutoDiff>(*wc), q0, s0);
   }
   EXPECT_NEAR(a.value, c.value, 1e-14);
   ARBOR_EXPECT_REL(a.gradient, c.gradient, 1e-9);

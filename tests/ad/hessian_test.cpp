@@ -5,7 +5,9 @@
 // (Analytical, AutoDiff) must agree too, for the dynamics and the frame positions.
 #include <gtest/gtest.h>
 
+#include <arbor/ad/contracted_hessian.hpp>
 #include <arbor/ad/rbd_functions.hpp>
+#include <memory>
 #include <random>
 #include <robots/double_pendulum.hpp>
 #include <robots/iiwa7.hpp>
@@ -32,15 +34,20 @@ void hessians_agree(unsigned seed) {
     lambda[i] = u(gen);
   VecN<double, m> ya, yc;
   static Eigen::Matrix<double, n, n> Ha, Hc;
+  // Caller-owned workspaces, one per call kind (large for nested duals: on the heap here).
+  auto wa = std::make_unique<ad::HessianWorkspace<F, ad::Analytical>>();
+  auto wc = std::make_unique<ad::HessianWorkspace<F, ad::AutoDiff>>();
+  auto wv = std::make_unique<ad::ValueWorkspace<F>>();
+  auto wj = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
   {
     NoAllocScope guard;
-    ad::hessian<ad::Analytical, F>(x, lambda, ya, Ha);
-    ad::hessian<ad::AutoDiff, F>(x, lambda, yc, Hc);
+    ad::contracted_hessian<ad::Analytical>(ad::bind<F>(*wa), x, lambda, ya, Ha);
+    ad::contracted_hessian<ad::AutoDiff>(ad::bind<F>(*wc), x, lambda, yc, Hc);
   }
   VecN<double, m> y;
   {
     NoAllocScope guard;
-    F::value(x, y);
+    ad::bind<F>(*wv).value(x, y);
   }
   ARBOR_EXPECT_REL(ya, y, 1e-13);
   ARBOR_EXPECT_REL(yc, y, 1e-13);
@@ -52,7 +59,7 @@ void hessians_agree(unsigned seed) {
   const Eigen::Matrix<double, n, n> Hfd =
       arbor::test::derivative_checks::central_diff<n, n>(x, [&](const VecN<double, n>& xx) {
         VecN<double, m> yy;
-        F::template value_and_jacobian<ad::Analytical>(xx, yy, J);
+        ad::bind<F>(*wj).template value_and_jacobian<ad::Analytical>(xx, yy, J);
         return VecN<double, n>(J.transpose() * lambda);
       });
   ARBOR_EXPECT_REL(Hc, Hfd, 1e-6);
@@ -71,11 +78,14 @@ void jacobian_providers_agree(unsigned seed) {
     x[i] = u(gen);
   VecN<double, m> ya, yc, y;
   Eigen::Matrix<double, m, n> Ja, Jc;
+  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
+  auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff>>();
+  auto wv = std::make_unique<ad::ValueWorkspace<F>>();
   {
     NoAllocScope guard;
-    ad::jacobian<ad::Analytical, F>(x, ya, Ja);
-    ad::jacobian<ad::AutoDiff, F>(x, yc, Jc);
-    F::value(x, y);
+    ad::bind<F>(*wa).template value_and_jacobian<ad::Analytical>(x, ya, Ja);
+    ad::bind<F>(*wc).template value_and_jacobian<ad::AutoDiff>(x, yc, Jc);
+    ad::bind<F>(*wv).value(x, y);
   }
   ARBOR_EXPECT_REL(ya, y, 1e-13);
   ARBOR_EXPECT_REL(yc, y, 1e-13);

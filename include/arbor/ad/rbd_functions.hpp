@@ -1,40 +1,40 @@
-// arbor: RBD functions as differentiable function objects, with a choice of Jacobian provider.
+// arbor: RBD functions as differentiable function objects, with a choice of Jacobian provider and
+// caller-owned workspaces.
 //
-// Each function object F is a stateless type with
+// A function F is a stateless descriptor with
 //   static constexpr int nin, nout;
-//   template <class T> static void value(const VecN<T, nin>& x, VecN<T, nout>& y);
-//   template <class Tag, class T>
-//   static void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
-//                                  Eigen::Matrix<T, nout, nin>& J);
-// (the last from detail::JacobianProviders, given `template <class T> analytical(x, y, J)`).
-// The provider tag chooses where J comes from:
+//   template <class T, class W> static void value(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y);
+//   template <class T, class W> static void analytical(W& ws, x, y, J);   // y and J^a, one pass
+// and three workspace plans: ValueWorkspace<F, T>, JacobianWorkspace<F, Tag, T> and
+// HessianWorkspace<F, Tag, T> (ad/contracted_hessian.hpp) name the RbdWorkspace that a call needs.
+// `bind<F>(ws)` makes a handle (a pointer to the caller's workspace, cheap to copy) with
+//   value(x, y)                          y = F(x)
+//   value_and_jacobian<Tag>(x, y, J)     y and J = dy/dx from provider Tag, in one pass
+// which is also what the expression layer's call<Tag>(handle, args...) node uses. The provider:
 //   Analytical  the analytical derivative routines (rnea_derivatives, aba_derivatives,
 //               frame_position_derivative): the paper's J^a;
 //   AutoDiff    Dual<T, nin> through the RBD templates: the paper's J^c.
-// Both providers return the primal value from the same pass (shared work).
-//
 // The functions are:
 //   ForwardDynamics<R>      x = (q, v, tau) -> ddq         (aba)
 //   InverseDynamics<R>      x = (q, v, a)   -> tau         (rnea)
-//   FramePosition<R, F>     x = q           -> p_F (world) (forward kinematics)
+//   FramePosition<R, F>     x = q           -> p_F (world) (forward kinematics; F a frame_id)
+// Cost per call: value = one RBD pass at T; J^a = one analytical derivative sweep; J^c = one RBD
+// pass at Dual<T, nin> (nin + 1 times the arithmetic of a value).
 //
-// Second order: hessian<Tag, F>(x, lambda, H) gives H = d^2 (lambda^T F(x)) / dx^2:
-//   AutoDiff    nested Dual<Dual<T, nin>, nin> through the RBD templates (the paper's H^c);
-//   Analytical  Dual<T, nin> through the analytical first-order routine (the paper's H^a).
-//
-// Workspaces: one static Data<R, S> per robot and scalar type (detail::workspace), so the calls
-// never allocate and need no caller-side storage, but they are not reentrant: do not call the
-// same function object with the same scalar type from two threads or interrupt levels at once.
-// The dual workspaces are large (Data<R, Dual<Dual<double, 21>, 7>> is about 3 MB for a 7-DoF
-// arm); they exist only in programs that instantiate them. For big robots, Data<R, Dual<T, N>>
-// can exceed Eigen's fixed-size object limit (EIGEN_STACK_ALLOCATION_LIMIT, 128 KB: a static
-// assertion); the objects are static here, so define EIGEN_STACK_ALLOCATION_LIMIT=0 for such
-// programs (the tests and benchmarks do for Atlas).
+// Reentrancy: a handle touches only its workspace, so two controllers, an interrupt and a task,
+// or two robots each with their own workspace never share state. Sizes: sizeof the workspace
+// (e.g. JacobianWorkspace<ForwardDynamics<Kinova>, AutoDiff> holds one Data<Kinova, Dual<double,
+// 21>>). Eigen refuses fixed-size matrices above EIGEN_STACK_ALLOCATION_LIMIT (128 KB) even in
+// static storage: Data<R, Dual<T, n>> for large robots (Atlas: 30 x 30 x 91 doubles) needs that
+// limit raised (EIGEN_STACK_ALLOCATION_LIMIT=0) in the program that instantiates it.
 #pragma once
 
 #include <Eigen/Core>
+#include <type_traits>
 
 #include "arbor/ad/dual.hpp"
+#include "arbor/ad/provider.hpp"
+#include "arbor/ad/rbd_workspace.hpp"
 #include "arbor/derivatives/aba_derivatives.hpp"
 #include "arbor/derivatives/frame_derivatives.hpp"
 #include "arbor/derivatives/rnea_derivatives.hpp"
@@ -45,16 +45,7 @@
 
 namespace arbor::ad {
 
-/// Jacobian provider tag: the analytical derivative routines (J^a; H^a for second order).
-struct Analytical {};
-/// Jacobian provider tag: Dual numbers through the RBD templates (J^c; H^c for second order).
-struct AutoDiff {};
-
 namespace detail {
-/// The static workspace of robot R at scalar S (zero-initialised at program start).
-template <class R, class S>
-inline Data<R, S> workspace{};
-
 template <class T, int N, class X>
 void seed(const Eigen::MatrixBase<X>& x, VecN<Dual<T, N>, N>& xd) {
   for (int k = 0; k < N; ++k)
@@ -68,179 +59,159 @@ void unseed(const VecN<Dual<T, N>, M>& yd, VecN<T, M>& y, Eigen::Matrix<T, M, N>
       J(i, k) = yd[i].d[k];
   }
 }
-/// J^c: one pass of Dual<T, F::nin> through F::value, seeded with the unit directions.
-template <class F, class T>
-void autodiff_jacobian(const VecN<T, F::nin>& x, VecN<T, F::nout>& y,
-                       Eigen::Matrix<T, F::nout, F::nin>& J) {
-  using D = Dual<T, F::nin>;
-  VecN<D, F::nin> xd;
-  seed<T, F::nin>(x, xd);
-  VecN<D, F::nout> yd;
-  F::template value<D>(xd, yd);
-  unseed<T, F::nin, F::nout>(yd, y, J);
-}
 
-/// value_and_jacobian<Tag, T> of a function object F with static value<T> and analytical<T>
-/// (value and J^a from one pass): the one place where the provider tag is dispatched.
-template <class F>
-struct JacobianProviders {
-  /// y = F(x) and J = d y / d x from the provider Tag (Analytical: F::analytical; AutoDiff:
-  /// autodiff_jacobian). G only defers the sizes until F is complete.
-  template <class Tag, class T, class G = F>
-  static void value_and_jacobian(const VecN<T, G::nin>& x, VecN<T, G::nout>& y,
-                                 Eigen::Matrix<T, G::nout, G::nin>& J) {
-    if constexpr (std::is_same_v<Tag, Analytical>) {
-      G::analytical(x, y, J);
-    } else {
-      static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-      autodiff_jacobian<G>(x, y, J);
-    }
+/// y = F(x) and J = d y / d x at scalar T from provider Tag, with workspace ws (the one place
+/// where the provider tag is dispatched). AutoDiff: one pass of Dual<T, F::nin> through
+/// F::value; Analytical: F::analytical. Called through Bound::value_and_jacobian.
+template <class F, class Tag, class T, class W>
+void provider_value_and_jacobian(W& ws, const VecN<T, F::nin>& x, VecN<T, F::nout>& y,
+                                 Eigen::Matrix<T, F::nout, F::nin>& J) {
+  if constexpr (std::is_same_v<Tag, Analytical>) {
+    F::analytical(ws, x, y, J);
+  } else {
+    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
+    using D = Dual<T, F::nin>;
+    VecN<D, F::nin> xd;
+    seed<T, F::nin>(x, xd);
+    VecN<D, F::nout> yd;
+    F::value(ws, xd, yd);
+    unseed<T, F::nin, F::nout>(yd, y, J);
+  }
+}
+}  // namespace detail
+
+/// The workspace F::value needs at scalar T.
+template <class F, class T = double>
+using ValueWorkspace = RbdWorkspace<typename F::Robot, Scalars<T>>;
+
+/// The workspace value_and_jacobian<F, Tag, T> needs: Analytical, a Data and (for the dynamics)
+/// a DerivativeData at T; AutoDiff, a Data at Dual<T, F::nin>.
+template <class F, class Tag, class T = double>
+using JacobianWorkspace = std::conditional_t<
+    std::is_same_v<Tag, Analytical>,
+    RbdWorkspace<typename F::Robot, Scalars<T>,
+                 std::conditional_t<F::needs_derivative_data, Scalars<T>, Scalars<>>>,
+    RbdWorkspace<typename F::Robot, Scalars<Dual<T, F::nin>>>>;
+
+/// A handle binding function F to a caller-owned workspace W (a pointer: cheap to copy; the
+/// workspace must outlive the handle and provide every scalar the handle is called at).
+template <class F, class W>
+struct Bound {
+  static constexpr int nin = F::nin;    ///< inputs
+  static constexpr int nout = F::nout;  ///< outputs
+  using Function = F;                   ///< the function descriptor
+  W* ws;                                ///< the caller's workspace
+
+  /// y = F(x) at scalar T.
+  template <class T>
+  void value(const VecN<T, nin>& x, VecN<T, nout>& y) const {
+    F::value(*ws, x, y);
+  }
+  /// y = F(x) and J = d y / d x from provider Tag, in one pass.
+  template <class Tag, class T>
+  void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
+                          Eigen::Matrix<T, nout, nin>& J) const {
+    detail::provider_value_and_jacobian<F, Tag>(*ws, x, y, J);
   }
 };
-}  // namespace detail
+
+/// A handle for function F on workspace ws.
+template <class F, class W>
+Bound<F, W> bind(W& ws) {
+  static_assert(std::is_same_v<typename W::Robot, typename F::Robot>,
+                "the workspace belongs to another robot");
+  return Bound<F, W>{&ws};
+}
 
 /// Forward dynamics x = (q, v, tau) -> ddq of robot R.
 template <Robot R>
-struct ForwardDynamics : detail::JacobianProviders<ForwardDynamics<R>> {
-  static constexpr int nv = R::nv;    ///< DoF
-  static constexpr int nin = 3 * nv;  ///< inputs (q, v, tau)
-  static constexpr int nout = nv;     ///< outputs (ddq)
+struct ForwardDynamics {
+  using Robot = R;
+  static constexpr int nv = R::nv;                     ///< DoF
+  static constexpr int nin = 3 * nv;                   ///< inputs (q, v, tau)
+  static constexpr int nout = nv;                      ///< outputs (ddq)
+  static constexpr bool needs_derivative_data = true;  ///< J^a uses aba_derivatives
 
   /// y = aba(q, v, tau).
-  template <class T>
-  static void value(const VecN<T, nin>& x, VecN<T, nout>& y) {
-    auto& d = detail::workspace<R, T>;
-    aba<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
-           x.template segment<nv>(2 * nv));
-    y = d.ddq;
+  template <class T, class W>
+  static void value(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y) {
+    auto& d = ws.template data<T>();
+    y = aba<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+               x.template segment<nv>(2 * nv));
   }
 
-  /// y = aba(q, v, tau) and J^a = d y / d x from the analytical routine, in one pass.
-  template <class T>
-  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
-    auto& d = detail::workspace<R, T>;
-    aba_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+  /// y = aba(q, v, tau) and J^a = d y / d x from aba_derivatives, in one pass.
+  template <class T, class W>
+  static void analytical(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y,
+                         Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = ws.template data<T>();
+    auto& dd = ws.template derivatives<T>();
+    aba_derivatives<R>(d, dd, x.template segment<nv>(0), x.template segment<nv>(nv),
                        x.template segment<nv>(2 * nv));
     y = d.ddq;
-    J.template leftCols<nv>() = d.ddq_dq;
-    J.template middleCols<nv>(nv) = d.ddq_dv;
+    J.template leftCols<nv>() = dd.ddq_dq;
+    J.template middleCols<nv>(nv) = dd.ddq_dv;
     J.template rightCols<nv>() = d.Minv;
   }
 };
 
 /// Inverse dynamics x = (q, v, a) -> tau of robot R.
 template <Robot R>
-struct InverseDynamics : detail::JacobianProviders<InverseDynamics<R>> {
-  static constexpr int nv = R::nv;    ///< DoF
-  static constexpr int nin = 3 * nv;  ///< inputs (q, v, a)
-  static constexpr int nout = nv;     ///< outputs (tau)
+struct InverseDynamics {
+  using Robot = R;
+  static constexpr int nv = R::nv;                     ///< DoF
+  static constexpr int nin = 3 * nv;                   ///< inputs (q, v, a)
+  static constexpr int nout = nv;                      ///< outputs (tau)
+  static constexpr bool needs_derivative_data = true;  ///< J^a uses rnea_derivatives
 
   /// y = rnea(q, v, a).
-  template <class T>
-  static void value(const VecN<T, nin>& x, VecN<T, nout>& y) {
-    auto& d = detail::workspace<R, T>;
-    rnea<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
-            x.template segment<nv>(2 * nv));
-    y = d.tau;
+  template <class T, class W>
+  static void value(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y) {
+    auto& d = ws.template data<T>();
+    y = rnea<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+                x.template segment<nv>(2 * nv));
   }
 
-  /// y = rnea(q, v, a) and J^a = d y / d x from the analytical routine, in one pass.
-  template <class T>
-  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
-    auto& d = detail::workspace<R, T>;
-    rnea_derivatives<R>(d, x.template segment<nv>(0), x.template segment<nv>(nv),
+  /// y = rnea(q, v, a) and J^a = d y / d x from rnea_derivatives, in one pass.
+  template <class T, class W>
+  static void analytical(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y,
+                         Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = ws.template data<T>();
+    auto& dd = ws.template derivatives<T>();
+    rnea_derivatives<R>(d, dd, x.template segment<nv>(0), x.template segment<nv>(nv),
                         x.template segment<nv>(2 * nv));
     y = d.tau;
-    J.template leftCols<nv>() = d.dtau_dq;
-    J.template middleCols<nv>(nv) = d.dtau_dv;
+    J.template leftCols<nv>() = dd.dtau_dq;
+    J.template middleCols<nv>(nv) = dd.dtau_dv;
     J.template rightCols<nv>() = d.M;
   }
 };
 
-/// World position of operational frame F of robot R: x = q -> p (3).
+/// World position of operational frame F of robot R (pass R::frame_id::<link>): x = q -> p (3).
 template <Robot R, int F>
-struct FramePosition : detail::JacobianProviders<FramePosition<R, F>> {
-  static_assert(F >= 0 && F < R::nf, "frame index out of range");
-  static constexpr int nin = R::nv;  ///< inputs (q)
-  static constexpr int nout = 3;     ///< outputs (position)
+struct FramePosition {
+  static_assert(F >= 0 && F < R::nf, "operational frame index out of range");
+  using Robot = R;
+  static constexpr int nin = R::nv;                     ///< inputs (q)
+  static constexpr int nout = 3;                        ///< outputs (position)
+  static constexpr bool needs_derivative_data = false;  ///< J^a needs Data only
 
   /// y = position of frame F at q.
-  template <class T>
-  static void value(const VecN<T, nin>& x, VecN<T, nout>& y) {
-    auto& d = detail::workspace<R, T>;
+  template <class T, class W>
+  static void value(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y) {
+    auto& d = ws.template data<T>();
     forward_kinematics<R>(d, x);
     y = frame_placement<R>(d, F).p;
   }
 
   /// y and J^a = d y / d q from compute_frame_position_derivative, in one pass.
-  template <class T>
-  static void analytical(const VecN<T, nin>& x, VecN<T, nout>& y, Eigen::Matrix<T, nout, nin>& J) {
-    auto& d = detail::workspace<R, T>;
+  template <class T, class W>
+  static void analytical(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y,
+                         Eigen::Matrix<T, nout, nin>& J) {
+    auto& d = ws.template data<T>();
     compute_frame_position_derivative<R>(d, x, F, J);
     y = d.oMf[F].p;
   }
 };
-
-/// Jacobian of F at x from provider Tag (also returns the value y).
-template <class Tag, class F, class T>
-void jacobian(const VecN<T, F::nin>& x, VecN<T, F::nout>& y, Eigen::Matrix<T, F::nout, F::nin>& J) {
-  F::template value_and_jacobian<Tag, T>(x, y, J);
-}
-
-/// Hessian H = d^2 (lambda^T F(x)) / dx^2 (symmetric, nin x nin) from provider Tag:
-/// AutoDiff is H^c (nested duals through F's templates), Analytical is H^a (duals through the
-/// analytical Jacobian routine). Also returns the value y = F(x).
-template <class Tag, class F, class T>
-void hessian(const VecN<T, F::nin>& x, const VecN<T, F::nout>& lambda, VecN<T, F::nout>& y,
-             Eigen::Matrix<T, F::nin, F::nin>& H) {
-  constexpr int n = F::nin;
-  constexpr int m = F::nout;
-  using D = Dual<T, n>;
-  VecN<D, n> xd;
-  detail::seed<T, n>(x, xd);
-  if constexpr (std::is_same_v<Tag, Analytical>) {
-    // d/dx_b of the analytical Jacobian, contracted with lambda.
-    VecN<D, m> yd;
-    Eigen::Matrix<D, m, n> Jd;
-    F::template value_and_jacobian<Analytical, D>(xd, yd, Jd);
-    for (int i = 0; i < m; ++i)
-      y[i] = yd[i].v;
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) {
-        T s = lambda[0] * Jd(0, a).d[b];
-        for (int i = 1; i < m; ++i)
-          s += lambda[i] * Jd(i, a).d[b];
-        H(a, b) = s;
-      }
-  } else {
-    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
-    // Forward over forward, the outer directions in chunks of at most 8 (a 21 x 21 nested dual
-    // would exceed Eigen's fixed-size limit in the 7 x 7 matrices of Data; chunks of 7 cost 9%
-    // more than one pass).
-    constexpr int passes = (n + 7) / 8;
-    constexpr int chunk = (n + passes - 1) / passes;
-    using DD = Dual<D, chunk>;
-    for (int c0 = 0; c0 < n; c0 += chunk) {
-      VecN<DD, n> xdd;
-      for (int k = 0; k < n; ++k) {
-        xdd[k] = DD(xd[k]);
-        if (k >= c0 && k < c0 + chunk)
-          xdd[k].d[k - c0] = D(T(1));
-      }
-      VecN<DD, m> ydd;
-      F::template value<DD>(xdd, ydd);
-      if (c0 == 0)
-        for (int i = 0; i < m; ++i)
-          y[i] = ydd[i].v.v;
-      for (int a = c0; a < n && a < c0 + chunk; ++a)
-        for (int b = 0; b < n; ++b) {
-          T s = lambda[0] * ydd[0].d[a - c0].d[b];
-          for (int i = 1; i < m; ++i)
-            s += lambda[i] * ydd[i].d[a - c0].d[b];
-          H(a, b) = s;
-        }
-    }
-  }
-}
 
 }  // namespace arbor::ad
