@@ -20,7 +20,12 @@ robots=()
 algos=()
 while [[ $# -gt 0 && "$1" != "--" ]]; do robots+=("$1"); shift; done
 if [[ $# -gt 0 ]]; then shift; algos=("$@"); fi
-[[ ${#robots[@]} -gt 0 ]] || robots=(iiwa7 kinova_gen3 yumi_no_grippers atlas)
+if [[ ${#robots[@]} -eq 0 ]]; then
+  # the benchmark robots (examples/robots, the one list), as configured in this build
+  list=$(sed -n 's/^ARBOR_BENCHMARK_ROBOTS:[A-Z]*=//p' "$build/CMakeCache.txt")
+  IFS=';' read -r -a robots <<<"$list"
+  [[ ${#robots[@]} -gt 0 ]] || { echo "no ARBOR_BENCHMARK_ROBOTS in $build/CMakeCache.txt" >&2; exit 1; }
+fi
 if [[ ${#algos[@]} -eq 0 ]]; then
   if [[ $bench == derivatives ]]; then
     algos=(rnea_derivatives aba_derivatives)

@@ -67,10 +67,8 @@ void register_robot(const std::string& name) {
   }
 }
 
-void register_double_pendulum();
-void register_iiwa7();
-void register_kinova_gen3();
-void register_yumi_no_grippers();
-void register_atlas();
+#define ARBOR_ROBOT(name, Struct) void register_##name();
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
 
 }  // namespace arbor::bench_ad

@@ -3,11 +3,9 @@
 
 int main(int argc, char** argv) {
   using namespace arbor::bench_ad;
-  register_double_pendulum();
-  register_iiwa7();
-  register_kinova_gen3();
-  register_yumi_no_grippers();
-  register_atlas();
+#define ARBOR_ROBOT(name, Struct) register_##name();
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

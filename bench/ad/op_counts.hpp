@@ -111,10 +111,8 @@ OpCounts op_counts() {
   return c;
 }
 
-OpCounts op_counts_double_pendulum();
-OpCounts op_counts_iiwa7();
-OpCounts op_counts_kinova_gen3();
-OpCounts op_counts_yumi_no_grippers();
-OpCounts op_counts_atlas();
+#define ARBOR_ROBOT(name, Struct) OpCounts op_counts_##name();
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
 
 }  // namespace arbor::bench_ad

@@ -1,6 +1,7 @@
 // Prints the paper's Table 1 next to arbor's operation counts, and the counts of Table 2
 // (Kinova Gen3 Hessians), as Markdown. Part of bench/ad/report.sh.
 #include <cstdio>
+#include <iterator>
 
 #include "op_counts.hpp"
 
@@ -22,8 +23,13 @@ constexpr Paper kPaper[] = {
 
 int main() {
   using namespace arbor::bench_ad;
-  const OpCounts ours[] = {op_counts_double_pendulum(), op_counts_iiwa7(), op_counts_kinova_gen3(),
-                           op_counts_yumi_no_grippers(), op_counts_atlas()};
+  // The benchmark robots in list order; the paper's rows above are in the same order.
+  const OpCounts ours[] = {
+#define ARBOR_ROBOT(name, Struct) op_counts_##name(),
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
+  };
+  static_assert(std::size(ours) == std::size(kPaper), "one paper row per benchmark robot");
   std::printf("| Robot | n | FD | J_FD^c | J_FD^a | ID | J_ID^c | J_ID^a |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   bool below[2] = {true, true}, goal[2] = {true, true};

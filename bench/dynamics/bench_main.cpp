@@ -8,27 +8,21 @@
 #include <cstring>
 #include <string>
 
-bool arbor_run_double_pendulum(const char*, const char*, long);
-bool arbor_run_iiwa7(const char*, const char*, long);
-bool arbor_run_kinova_gen3(const char*, const char*, long);
-bool arbor_run_yumi_no_grippers(const char*, const char*, long);
-bool arbor_run_atlas(const char*, const char*, long);
+// One runner per benchmark robot (examples/robots: the one robot list).
+#define ARBOR_ROBOT(name, Struct) bool arbor_run_##name(const char*, const char*, long);
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
 
 int main(int argc, char** argv) {
   if (argc == 6 && std::strcmp(argv[1], "--run") == 0) {
     const std::string robot = argv[2];
     const long n = std::atol(argv[5]);
     bool ok = false;
-    if (robot == "double_pendulum")
-      ok = arbor_run_double_pendulum(argv[3], argv[4], n);
-    if (robot == "iiwa7")
-      ok = arbor_run_iiwa7(argv[3], argv[4], n);
-    if (robot == "kinova_gen3")
-      ok = arbor_run_kinova_gen3(argv[3], argv[4], n);
-    if (robot == "yumi_no_grippers")
-      ok = arbor_run_yumi_no_grippers(argv[3], argv[4], n);
-    if (robot == "atlas")
-      ok = arbor_run_atlas(argv[3], argv[4], n);
+#define ARBOR_ROBOT(name, Struct) \
+  if (robot == #name)             \
+    ok = arbor_run_##name(argv[3], argv[4], n);
+#include <robots/benchmark_robots.inc>
+#undef ARBOR_ROBOT
     if (!ok)
       std::fprintf(stderr, "unknown robot or algorithm\n");
     return ok ? 0 : 1;

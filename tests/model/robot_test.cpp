@@ -8,6 +8,12 @@
 #include <utility>
 
 #include "arbor/model/robot.hpp"
+#include "status_names.hpp"
+
+// Failure messages name the RobotError (to_string), not its number.
+namespace arbor::model {
+using ::arbor::test::status_names::operator<<;
+}
 
 namespace {
 

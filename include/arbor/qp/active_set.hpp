@@ -5,7 +5,7 @@
 // Stack z = [x; A x] (NZ = NV + NA) with one multiplier lam = [lam_x; lam_a]; stationarity reads
 // H x + g + lam_x + A' lam_a = 0; lam_i > 0 means "upper bound active", lam_i < 0 "lower active".
 //
-// Method (QRQP-style, see /work/shared/QRQP.md, our own implementation):
+// Method (in the style of CasADi's QRQP primal-dual active-set solver; our own implementation):
 // - An explicit int8 working set ws (ConstraintState in backend.hpp: inactive, lower, upper,
 //   equality) is built from the multipliers' signs at the start of every solve (warm start =
 //   keep x and lam), and kept consistent afterwards: an inactive constraint has lam_i == 0
