@@ -30,10 +30,10 @@ TEST(WorkspaceSizes, KinovaGen3) {
   const std::size_t jac_c = sizeof(arbor::ad::JacobianWorkspace<FD, arbor::ad::AutoDiff>);
   const std::size_t hes_a = sizeof(arbor::ad::HessianWorkspace<FD, arbor::ad::Analytical>);
   const std::size_t hes_c = sizeof(arbor::ad::HessianWorkspace<FD, arbor::ad::AutoDiff>);
-  std::printf("Data<Kinova, double / float / Dual<double, 21>>           %7zu %7zu %7zu\n",
-              data_d, data_f, data_dual);
-  std::printf("DerivativeData<Kinova, double / float / Dual<double, 21>> %7zu %7zu %7zu\n",
-              deriv_d, deriv_f, deriv_dual);
+  std::printf("Data<Kinova, double / float / Dual<double, 21>>           %7zu %7zu %7zu\n", data_d,
+              data_f, data_dual);
+  std::printf("DerivativeData<Kinova, double / float / Dual<double, 21>> %7zu %7zu %7zu\n", deriv_d,
+              deriv_f, deriv_dual);
   std::printf("FD Jacobian workspace, Analytical / AutoDiff              %7zu %7zu\n", jac_a,
               jac_c);
   std::printf("FD Hessian workspace, Analytical / AutoDiff               %7zu %7zu\n", hes_a,
