@@ -28,8 +28,10 @@ summary() {
   done
   printf '  %-36s %4d:%02d  %s\n' "total" $((total / 60)) $((total % 60)) \
     "$([ "$failed" = 0 ] && echo passed || echo FAILED)"
-  # CPU time of every process started by this script (compilers, tests, emulators).
-  times | awk 'NR == 2 {print "  CPU time of the child processes: user " $1 ", system " $2}'
+  # CPU time of every process started by this script (compilers, tests, emulators). `times`
+  # must run in this shell (in a pipeline it would report a subshell's children: zero).
+  times > >(awk 'NR == 2 {print "  CPU time of the child processes: user " $1 ", system " $2}')
+  wait
 }
 trap summary EXIT
 
