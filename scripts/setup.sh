@@ -10,6 +10,7 @@ packages=(
   liburdfdom-dev liburdfdom-tools    # URDF parsing for arbor-gen (+ check_urdf)
   libtinyxml-dev libconsole-bridge-dev
   googletest libgtest-dev            # unit tests
+  coinor-libipopt-dev                # IPOPT, test-only NLP reference (tests/support/ipopt_reference)
   libbenchmark-dev                   # benchmarks
   clang libclang-rt-14-dev           # libFuzzer target of the generator
   clang-format                       # formatting check of generated headers
