@@ -62,8 +62,8 @@ struct Nlp {
   int n = 0;                                 ///< number of variables
   int m = 0;                                 ///< number of constraints (0 allowed)
   std::function<double(const double* w)> f;  ///< objective
-  std::function<void(const double* w, double* g)>
-      g;  ///< m constraint values (may be empty if m == 0)
+  /// m constraint values (may be empty if m == 0)
+  std::function<void(const double* w, double* g)> g;
   /// Optional exact gradient of f (n values). Empty: finite differences of f.
   std::function<void(const double* w, double* grad)> grad_f;
   /// Optional exact Jacobian of g, dense m x n row-major. Empty: finite differences of g.
