@@ -1,0 +1,463 @@
+// arbor::nmpc: the NMPC controller: multiple shooting, SQP on the static QP (qp/), with
+//   - SCQP (HessianKind::gauss_newton, the paper's method): convex QPs from the outer functions'
+//     Hessians, no second derivatives of the dynamics;
+//   - exact-Hessian SQP (HessianKind::exact): the Lagrangian's Hessian from the expression layer,
+//     convexified per stage (ocp::convexify);
+//   - globalisation of full solves by backtracking on the L1 merit function
+//       M(w) = f(w) + nu (|defects|_1 + constraint and bound violations),
+//     Armijo on the directional derivative g'd - nu viol(w) (exact for the L1 merit when d solves
+//     the QP), nu >= 1.5 |lambda_QP|_inf, never decreased; full steps in real-time iteration;
+//   - real-time iteration: prepare() linearises around the current (shifted) plan before the
+//     state is measured; feedback(x0) embeds x0 (dx_0 = x0 - x_0), solves one QP, takes the full
+//     step and returns; control() is then u_0. shift() moves plan and multipliers one stage.
+//
+//   using Ctrl = nmpc::Nmpc<decltype(problem), double>;
+//   static Ctrl ctrl(problem);              // big: static storage (sizeof in bench/nmpc)
+//   ctrl.set_initial_guess(x_guess, u_guess);
+//   if (ctrl.solve(x0) != NmpcStatus::converged) ...;      // full SQP
+//   loop: apply(ctrl.control()); ctrl.shift(); ctrl.prepare(); x0 = measure();
+//         ctrl.feedback(x0);                               // RTI: latency = feedback only
+//
+// A failed call (see NmpcStatus) leaves the plan unchanged: control() is always finite, the
+// current plan's u_0 (after shift(), the previous plan's u_1). Everything is sized at compile
+// time, nothing allocates, the object is reentrant (its state is its members; RBD calls use the
+// workspaces their handles point to, one controller per workspace set).
+// Cost per SQP iteration: N path linearisations + the terminal one (ocp/linearize.hpp), one QP
+// update (vector copies and finiteness checks), one QP solve, and per line-search step N + 1
+// stage evaluations without derivatives.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+#include "arbor/core/config.hpp"
+#include "arbor/nmpc/kkt.hpp"
+#include "arbor/nmpc/settings.hpp"
+#include "arbor/nmpc/status.hpp"
+#include "arbor/ocp/linearize.hpp"
+#include "arbor/qp/ocp_qp_solver.hpp"
+
+namespace arbor::nmpc {
+
+/// NMPC controller for problem type P (ocp::Problem) at Scalar, Hessian kind H.
+template <class P, class Scalar = double, ocp::HessianKind H = ocp::HessianKind::gauss_newton>
+class Nmpc {
+ public:
+  static constexpr int nx = P::nx;        ///< states
+  static constexpr int nu = P::nu;        ///< inputs
+  static constexpr int np = P::np;        ///< parameters per stage
+  static constexpr int ns = P::ns;        ///< slacks per path stage
+  static constexpr int nw = nu + ns;      ///< QP inputs per path stage ([u; s])
+  static constexpr int N = P::horizon;    ///< shooting intervals
+  using Qp = ocp::QpOf<P, Scalar>;        ///< the QP of one SQP iteration
+  static constexpr int ng = Qp::ng;       ///< QP rows per path stage (>= 1, see ocp::qp_rows)
+  static constexpr int ngn = Qp::ngn;     ///< QP rows of the terminal stage (>= 1)
+  using QpSolver = qp::OcpQpSolver<Qp>;   ///< its solver
+  using Vx = VecN<Scalar, nx>;            ///< a state
+  using Vu = VecN<Scalar, nu>;            ///< an input
+  using Vw = VecN<Scalar, nw>;            ///< an input with its slacks
+  using Vp = VecN<Scalar, np>;            ///< stage parameters
+  using Settings = NmpcSettings<Scalar>;  ///< settings
+  using Info = NmpcInfo<Scalar>;          ///< figures of the last call
+
+  /// Copies the problem (its expressions and default bounds); plan, parameters and multipliers
+  /// start at zero (set a guess with set_initial_guess).
+  explicit Nmpc(const P& problem, const Settings& settings = Settings{})
+      : problem_(problem), settings_(settings) {
+    for (int k = 0; k <= N; ++k) {
+      x_[std::size_t(k)].setZero();
+      p_[std::size_t(k)].setZero();
+      lbx_[std::size_t(k)] = problem.lbx.template cast<Scalar>();
+      ubx_[std::size_t(k)] = problem.ubx.template cast<Scalar>();
+    }
+    for (int k = 0; k < N; ++k) {
+      w_[std::size_t(k)].setZero();
+      lbu_[std::size_t(k)] = problem.lbu.template cast<Scalar>();
+      ubu_[std::size_t(k)] = problem.ubu.template cast<Scalar>();
+    }
+    lam_x_.setZero();
+    lam_a_.setZero();
+  }
+  Nmpc(const Nmpc&) = delete;  // the QP solver points into this object
+  Nmpc& operator=(const Nmpc&) = delete;
+
+  // ---- data -----------------------------------------------------------------------------------
+  /// The same guess on every stage (slacks zero, multipliers reset).
+  [[nodiscard]] NmpcStatus set_initial_guess(const Vx& x, const Vu& u) {
+    if (!x.allFinite() || !u.allFinite())
+      return NmpcStatus::non_finite_input;
+    for (auto& xk : x_)
+      xk = x;
+    for (auto& wk : w_) {
+      wk.setZero();
+      wk.template head<nu>() = u;
+    }
+    lam_x_.setZero();
+    lam_a_.setZero();
+    prepared_ = false;
+    return NmpcStatus::prepared;
+  }
+  /// Guess of x_k, k = 0..N.
+  [[nodiscard]] NmpcStatus set_state_guess(int k, const Vx& x) {
+    ARBOR_ASSERT(k >= 0 && k <= N, "state index out of range");
+    if (!x.allFinite())
+      return NmpcStatus::non_finite_input;
+    x_[std::size_t(k)] = x;
+    prepared_ = false;
+    return NmpcStatus::prepared;
+  }
+  /// Guess of u_k, k = 0..N-1.
+  [[nodiscard]] NmpcStatus set_input_guess(int k, const Vu& u) {
+    ARBOR_ASSERT(k >= 0 && k < N, "input index out of range");
+    if (!u.allFinite())
+      return NmpcStatus::non_finite_input;
+    w_[std::size_t(k)].template head<nu>() = u;
+    prepared_ = false;
+    return NmpcStatus::prepared;
+  }
+  /// Parameters of stage k = 0..N (checked for finiteness by solve()/prepare()).
+  void set_parameter(int k, const Vp& p) {
+    ARBOR_ASSERT(k >= 0 && k <= N, "parameter index out of range");
+    p_[std::size_t(k)] = p;
+    prepared_ = false;
+  }
+  /// Bounds of x_k, k = 0..N (x_0's are not used: x_0 is the measured state).
+  void set_state_bounds(int k, const Vx& lb, const Vx& ub) {
+    ARBOR_ASSERT(k >= 0 && k <= N, "state index out of range");
+    lbx_[std::size_t(k)] = lb;
+    ubx_[std::size_t(k)] = ub;
+    prepared_ = false;
+  }
+  /// Bounds of u_k, k = 0..N-1.
+  void set_input_bounds(int k, const Vu& lb, const Vu& ub) {
+    ARBOR_ASSERT(k >= 0 && k < N, "input index out of range");
+    lbu_[std::size_t(k)] = lb;
+    ubu_[std::size_t(k)] = ub;
+    prepared_ = false;
+  }
+  /// Settings (take effect at the next call).
+  Settings& settings() { return settings_; }
+
+  // ---- results --------------------------------------------------------------------------------
+  /// The control to apply: u_0 of the current plan (always finite).
+  Vu control() const { return w_[0].template head<nu>(); }
+  /// x_k of the plan, k = 0..N.
+  const Vx& state(int k) const {
+    ARBOR_ASSERT(k >= 0 && k <= N, "state index out of range");
+    return x_[std::size_t(k)];
+  }
+  /// u_k of the plan, k = 0..N-1.
+  Vu input(int k) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "input index out of range");
+    return w_[std::size_t(k)].template head<nu>();
+  }
+  /// Slacks of the soft path constraints of stage k (in the order of the terms).
+  VecN<Scalar, ns> slack(int k) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
+    return w_[std::size_t(k)].template tail<ns>();
+  }
+  /// Multipliers of x_{k+1} - F(x_k, u_k, p_k) = 0, k = 0..N-1 (QP sign convention).
+  auto dynamics_multiplier(int k) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
+    return lam_a_.template segment<nx>(Qp::dynamics_offset(k));
+  }
+  /// Multipliers of the bounds of x_k, k = 0..N (> 0: upper bound active; at k = 0 the
+  /// multiplier of x_0 = x0).
+  auto state_bound_multiplier(int k) const {
+    ARBOR_ASSERT(k >= 0 && k <= N, "state index out of range");
+    return lam_x_.template segment<nx>(Qp::state_offset(k));
+  }
+  /// Multipliers of the bounds of [u_k; s_k], k = 0..N-1 (> 0: upper bound active).
+  auto input_bound_multiplier(int k) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "input index out of range");
+    return lam_x_.template segment<nw>(Qp::input_offset(k));
+  }
+  /// Multipliers of the QP rows of the terminal constraints.
+  auto terminal_constraint_multiplier() const { return lam_a_.template tail<ngn>(); }
+  /// Multipliers of the QP rows of the path constraints of stage k (> 0: upper side active).
+  auto constraint_multiplier(int k) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
+    return lam_a_.template segment<ng>(Qp::constraint_offset(k));
+  }
+  /// Figures of the last call.
+  const Info& info() const { return info_; }
+  /// The QP of the last linearisation (delta form) and its solver, for inspection.
+  const Qp& qp() const { return qp_; }
+  /// The QP solver (its info() holds the last QP's figures).
+  const QpSolver& qp_solver() const { return solver_; }
+
+  // ---- solving --------------------------------------------------------------------------------
+  /// Full SQP from the current plan with x_0 = x0: iterates until the KKT residuals are below
+  /// the tolerances (converged) or max_iter steps were taken (iteration_limit), with the L1-merit
+  /// line search unless settings().line_search is false.
+  [[nodiscard]] NmpcStatus solve(const Vx& x0) {
+    info_ = Info{};
+    if (!x0.allFinite() || !parameters_finite())
+      return NmpcStatus::non_finite_input;
+    x_[0] = x0;
+    for (int it = 0;; ++it) {
+      const NmpcStatus lin = linearize();
+      if (lin != NmpcStatus::prepared)
+        return lin;
+      embed(x0);
+      record_kkt();
+      if (converged())
+        return NmpcStatus::converged;
+      if (it == settings_.max_iter)
+        return NmpcStatus::iteration_limit;
+      const NmpcStatus qs = solve_qp();
+      if (qs != NmpcStatus::step_taken)
+        return qs;
+      const NmpcStatus ls = settings_.line_search ? line_search(x0) : take_step(Scalar(1));
+      if (ls != NmpcStatus::step_taken)
+        return ls;
+    }
+  }
+
+  /// Real-time iteration, preparation phase: linearises around the current plan (call after
+  /// shift()). Returns prepared, non_finite_input or non_finite_evaluation.
+  [[nodiscard]] NmpcStatus prepare() {
+    prepared_ = false;
+    if (!parameters_finite())
+      return NmpcStatus::non_finite_input;
+    const NmpcStatus lin = linearize();
+    if (lin != NmpcStatus::prepared)
+      return lin;
+    embed(x_[0]);  // the residuals as if the measurement equalled the prediction
+    record_kkt();
+    prepared_ = true;
+    return NmpcStatus::prepared;
+  }
+
+  /// Real-time iteration, feedback phase: embeds the measured x0, solves the prepared QP and
+  /// takes the full step. Returns step_taken (control() is the new u_0), not_prepared,
+  /// non_finite_input (the preparation is kept) or qp_failed (the plan is unchanged).
+  [[nodiscard]] NmpcStatus feedback(const Vx& x0) {
+    if (!prepared_)
+      return NmpcStatus::not_prepared;
+    if (!x0.allFinite())
+      return NmpcStatus::non_finite_input;
+    prepared_ = false;
+    embed(x0);
+    info_.iterations = 0;
+    info_.qp_iterations = 0;
+    const NmpcStatus qs = solve_qp();
+    if (qs != NmpcStatus::step_taken)
+      return qs;
+    return take_step(Scalar(1));
+  }
+
+  /// Moves plan and multipliers one stage earlier for the next sample: stage k takes stage k+1's
+  /// values; the last input repeats and x_N becomes F(x_N, u_{N-1}, p_N) (kept if not finite).
+  void shift() {
+    for (int k = 0; k < N; ++k)
+      x_[std::size_t(k)] = x_[std::size_t(k + 1)];
+    for (int k = 0; k + 1 < N; ++k)
+      w_[std::size_t(k)] = w_[std::size_t(k + 1)];
+    const Vu u = w_[N - 1].template head<nu>();
+    const Vx xn = ad::evaluate(problem_.dynamics, x_[N], u, p_[N]);
+    if (xn.allFinite())
+      x_[N] = xn;
+    constexpr int NW = nx + nw, NR = nx + ng;
+    for (int k = 0; k + 1 < N; ++k) {
+      lam_x_.template segment<NW>(k * NW) = lam_x_.template segment<NW>((k + 1) * NW);
+      lam_a_.template segment<NR>(k * NR) = lam_a_.template segment<NR>((k + 1) * NR);
+    }
+    lam_x_.template segment<nx>((N - 1) * NW) = lam_x_.template tail<nx>();
+    prepared_ = false;
+  }
+
+  // ---- the phases of one SQP iteration (public for benchmarks and custom loops) ---------------
+  /// Evaluation and linearisation of every stage at the current plan, written into the QP, with
+  /// the variable bounds in delta form (x_0's are set by embed()). Returns prepared or
+  /// non_finite_evaluation.
+  [[nodiscard]] NmpcStatus linearize() {
+    constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
+    for (int k = 0; k < N; ++k) {
+      auto& st = qp_.stage[std::size_t(k)];
+      const std::size_t i = std::size_t(k);
+      const VecN<Scalar, ng> lg = lam_a_.template segment<ng>(Qp::constraint_offset(k));
+      const Vx ld = lam_a_.template segment<nx>(Qp::dynamics_offset(k));
+      ocp::linearize_path<H>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st,
+                             settings_.hessian_floor);
+      if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
+          st.lg.hasNaN() || st.ug.hasNaN())  // (row bounds may be infinite)
+        return NmpcStatus::non_finite_evaluation;
+      st.lbx = lbx_[i] - x_[i];
+      st.ubx = ubx_[i] - x_[i];
+      st.lbu.template head<nu>() = lbu_[i] - w_[i].template head<nu>();
+      st.ubu.template head<nu>() = ubu_[i] - w_[i].template head<nu>();
+      st.lbu.template tail<ns>() = -w_[i].template tail<ns>();  // s >= 0
+      st.ubu.template tail<ns>().setConstant(inf);
+    }
+    auto& t = qp_.terminal;
+    const VecN<Scalar, ngn> lgn = lam_a_.template tail<ngn>();
+    ocp::linearize_terminal<H>(problem_, x_[N], p_[N], lgn, t, settings_.hessian_floor);
+    if (!qp::detail::all_finite(t.Q, t.q, t.C) || t.lg.hasNaN() || t.ug.hasNaN())
+      return NmpcStatus::non_finite_evaluation;
+    t.lbx = lbx_[N] - x_[N];
+    t.ubx = ubx_[N] - x_[N];
+    return NmpcStatus::prepared;
+  }
+
+  /// Embeds the measured state: dx_0 = x0 - x_0.
+  void embed(const Vx& x0) {
+    qp_.stage[0].lbx = x0 - x_[0];
+    qp_.stage[0].ubx = qp_.stage[0].lbx;
+  }
+
+  /// QP construction (update: the solver re-reads the vectors) and solve, warm-started at d = 0
+  /// with the current multipliers. Returns step_taken (the step is in the solver) or qp_failed.
+  [[nodiscard]] NmpcStatus solve_qp() {
+    qp::QpStatus st;
+    if (!qp_setup_) {
+      st = solver_.setup(qp_, settings_.qp);
+      qp_setup_ = st == qp::QpStatus::accepted;
+    } else {
+      st = solver_.update(qp::Convexity::assumed);
+    }
+    info_.qp_status = st;
+    if (st != qp::QpStatus::accepted)
+      return NmpcStatus::qp_failed;
+    solver_.x().setZero();
+    solver_.lam_x() = lam_x_;
+    solver_.lam_a() = lam_a_;
+    st = solver_.solve();
+    info_.qp_status = st;
+    info_.qp_iterations += solver_.info().iterations;
+    ++info_.iterations;
+    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !solver_.lam_x().allFinite() ||
+        !solver_.lam_a().allFinite())
+      return NmpcStatus::qp_failed;
+    info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
+    return NmpcStatus::step_taken;
+  }
+
+  /// Backtracking on the L1 merit along the solver's step (see the top of this file); takes the
+  /// accepted step. Returns step_taken or line_search_failed (plan unchanged).
+  [[nodiscard]] NmpcStatus line_search(const Vx& x0) {
+    const Scalar lam_max =
+        std::fmax(solver_.lam_x().cwiseAbs().maxCoeff(),
+                  solver_.lam_a().size() > 0 ? solver_.lam_a().cwiseAbs().maxCoeff() : Scalar(0));
+    penalty_ = std::fmax(penalty_, settings_.penalty_margin * lam_max);
+    info_.penalty = penalty_;
+    if (info_.step_norm == Scalar(0))
+      return take_step(Scalar(1));  // only the multipliers change
+    const ocp::StageMerit<Scalar> m0 = merit_at(Scalar(0), x0);
+    const Scalar phi0 = m0.cost + penalty_ * m0.violation;
+    Scalar slope = directional_cost_derivative() - penalty_ * m0.violation;
+    if (slope > Scalar(0))
+      slope = Scalar(0);  // round-off: require plain decrease
+    Scalar alpha = 1;
+    for (int i = 0; i <= settings_.max_line_search; ++i) {
+      const ocp::StageMerit<Scalar> m = merit_at(alpha, x0);
+      const Scalar phi = m.cost + penalty_ * m.violation;
+      // sufficient decrease, up to the rounding noise of evaluating the merit
+      const Scalar noise = Scalar(16) * std::numeric_limits<Scalar>::epsilon() * std::fabs(phi0);
+      if (std::isfinite(phi) && phi <= phi0 + settings_.armijo * alpha * slope + noise) {
+        info_.line_search_steps = i;
+        info_.merit = phi;
+        return take_step(alpha);
+      }
+      alpha *= settings_.backtrack;
+    }
+    info_.line_search_steps = settings_.max_line_search;
+    return NmpcStatus::line_search_failed;
+  }
+
+ private:
+  bool parameters_finite() const {
+    for (const auto& p : p_)
+      if (!p.allFinite())
+        return false;
+    return true;
+  }
+
+  void record_kkt() {
+    const KktResiduals<Scalar> r = kkt_residuals(qp_, lam_x_, lam_a_);
+    info_.stationarity = r.stationarity;
+    info_.primal_residual = r.primal;
+    info_.complementarity = r.complementarity;
+  }
+
+  /// Stationarity is relative to the size of its terms, 1 + max(|grad f|_inf, |lambda|_inf) (as
+  /// the QP's tolerances are).
+  bool converged() const {
+    Scalar g = std::fmax(lam_x_.cwiseAbs().maxCoeff(), lam_a_.cwiseAbs().maxCoeff());
+    for (const auto& st : qp_.stage)
+      g = std::fmax(g, std::fmax(st.q.cwiseAbs().maxCoeff(), st.r.cwiseAbs().maxCoeff()));
+    g = std::fmax(g, qp_.terminal.q.cwiseAbs().maxCoeff());
+    return info_.stationarity <= settings_.tol_stationarity * (Scalar(1) + g) &&
+           info_.primal_residual <= settings_.tol_primal &&
+           info_.complementarity <= settings_.tol_complementarity;
+  }
+
+  /// Takes x += alpha dx, w += alpha dw, lambda += alpha (lambda_QP - lambda).
+  NmpcStatus take_step(Scalar alpha) {
+    for (int k = 0; k <= N; ++k)
+      x_[std::size_t(k)] += alpha * solver_.state(k);
+    for (int k = 0; k < N; ++k)
+      w_[std::size_t(k)] += alpha * solver_.input(k);
+    lam_x_ += alpha * (solver_.lam_x() - lam_x_);
+    lam_a_ += alpha * (solver_.lam_a() - lam_a_);
+    info_.step_size = alpha;
+    return NmpcStatus::step_taken;
+  }
+
+  /// g'd for the solver's step d (the QP gradient is the cost's gradient).
+  Scalar directional_cost_derivative() const {
+    Scalar s = 0;
+    for (int k = 0; k < N; ++k) {
+      const auto& st = qp_.stage[std::size_t(k)];
+      s += st.q.dot(solver_.state(k)) + st.r.dot(solver_.input(k));
+    }
+    return s + qp_.terminal.q.dot(solver_.state(N));
+  }
+
+  /// Cost and L1 violation (dynamics, constraints, bounds, x_0 = x0) at the plan + alpha d.
+  ocp::StageMerit<Scalar> merit_at(Scalar alpha, const Vx& x0) const {
+    ocp::StageMerit<Scalar> m;
+    auto add_bounds = [&m](const auto& v, const auto& lb, const auto& ub) {
+      m.violation += (lb - v).cwiseMax(Scalar(0)).sum() + (v - ub).cwiseMax(Scalar(0)).sum();
+    };
+    Vx xk = x_[0] + alpha * solver_.state(0);
+    m.violation += (xk - x0).cwiseAbs().sum();
+    for (int k = 0; k < N; ++k) {
+      const Vw wk = w_[std::size_t(k)] + alpha * solver_.input(k);
+      const Vx xn = x_[std::size_t(k + 1)] + alpha * solver_.state(k + 1);
+      const ocp::StageMerit<Scalar> s = ocp::path_merit(problem_, xk, wk, p_[std::size_t(k)], xn);
+      m.cost += s.cost;
+      m.violation += s.violation;
+      if (k > 0)
+        add_bounds(xk, lbx_[std::size_t(k)], ubx_[std::size_t(k)]);
+      add_bounds(wk.template head<nu>(), lbu_[std::size_t(k)], ubu_[std::size_t(k)]);
+      m.violation += (-wk.template tail<ns>()).cwiseMax(Scalar(0)).sum();
+      xk = xn;
+    }
+    const ocp::StageMerit<Scalar> t = ocp::terminal_merit(problem_, xk, p_[N]);
+    m.cost += t.cost;
+    m.violation += t.violation;
+    add_bounds(xk, lbx_[N], ubx_[N]);
+    return m;
+  }
+
+  P problem_;                        ///< the OCP (expressions, default bounds)
+  Settings settings_;                ///< settings
+  std::array<Vx, N + 1> x_;          ///< planned states x_0..x_N
+  std::array<Vw, N> w_;              ///< planned inputs and slacks [u_k; s_k]
+  std::array<Vp, N + 1> p_;          ///< stage parameters
+  std::array<Vx, N + 1> lbx_, ubx_;  ///< state bounds per stage
+  std::array<Vu, N> lbu_, ubu_;      ///< input bounds per stage
+  VecN<Scalar, Qp::nv> lam_x_;       ///< multipliers of the variable bounds (flat)
+  VecN<Scalar, Qp::na> lam_a_;       ///< multipliers of the QP rows (flat)
+  Qp qp_;                            ///< the QP of the current linearisation
+  QpSolver solver_;                  ///< its solver (points to qp_)
+  Info info_{};                      ///< figures of the last call
+  Scalar penalty_ = 0;               ///< L1 merit penalty nu
+  bool prepared_ = false;            ///< prepare() succeeded, feedback() not yet run
+  bool qp_setup_ = false;            ///< solver_.setup(qp_) was accepted once
+};
+
+}  // namespace arbor::nmpc

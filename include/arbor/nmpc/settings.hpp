@@ -1,0 +1,30 @@
+// arbor::nmpc: controller settings with defaults per scalar type (tolerances are absolute, on the
+// NLP's KKT residuals in the problem's units; float's are looser for its 24-bit mantissa).
+#pragma once
+
+#include <type_traits>
+
+#include "arbor/qp/settings.hpp"
+
+namespace arbor::nmpc {
+
+/// Settings of an Nmpc controller (see the members for the defaults' meaning).
+template <class Scalar>
+struct NmpcSettings {
+  static constexpr bool single = std::is_same_v<Scalar, float>;
+  int max_iter = 50;  ///< SQP iterations per solve()
+  /// |grad L|_inf <= tol_stationarity (1 + max(|grad f|_inf, |lambda|_inf)) (relative, as the
+  /// QP's tolerances)
+  Scalar tol_stationarity = Scalar(single ? 1e-3 : 1e-8);
+  Scalar tol_primal = Scalar(single ? 1e-4 : 1e-8);           ///< defects, bounds, constraints
+  Scalar tol_complementarity = Scalar(single ? 1e-3 : 1e-8);  ///< |lambda * gap|
+  bool line_search = true;              ///< solve(): L1-merit backtracking (false: full steps)
+  int max_line_search = 30;             ///< backtracking steps before line_search_failed
+  Scalar armijo = Scalar(1e-4);         ///< sufficient-decrease fraction eta
+  Scalar backtrack = Scalar(0.5);       ///< step reduction per backtracking step
+  Scalar penalty_margin = Scalar(1.5);  ///< nu >= margin * |lambda|_inf (never decreased)
+  Scalar hessian_floor = Scalar(single ? 1e-4 : 1e-8);  ///< exact Hessian: eigenvalue floor
+  qp::QpSettings<Scalar> qp{};                          ///< settings of the QP solver
+};
+
+}  // namespace arbor::nmpc

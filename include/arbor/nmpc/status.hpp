@@ -1,0 +1,69 @@
+// arbor::nmpc: what a controller call reports (NmpcStatus) and the figures of the last call
+// (NmpcInfo). Every failure leaves the stored plan unchanged, so control() stays finite and is
+// the best available control (the previous plan, shifted).
+#pragma once
+
+#include "arbor/qp/status.hpp"
+
+namespace arbor::nmpc {
+
+/// Outcome of solve(), prepare() or feedback().
+enum class NmpcStatus : unsigned char {
+  converged,              ///< solve(): the NLP's KKT residuals are below the tolerances
+  step_taken,             ///< feedback() (real-time iteration): one full SQP step was taken
+  prepared,               ///< prepare(): the QP is linearised; feedback() may run
+  iteration_limit,        ///< solve(): max_iter SQP iterations without convergence
+  qp_failed,              ///< the QP was rejected or not solved (NmpcInfo::qp_status says why)
+  line_search_failed,     ///< solve(): no step length gave sufficient merit decrease
+  non_finite_input,       ///< NaN/Inf in the measured state, a parameter, a guess or a bound
+  non_finite_evaluation,  ///< a function or derivative of the OCP evaluated to NaN/Inf
+  not_prepared,           ///< feedback() without a successful prepare() since the last one
+};
+
+/// Name of a status, for logs and test messages.
+constexpr const char* to_string(NmpcStatus s) {
+  switch (s) {
+    case NmpcStatus::converged:
+      return "converged";
+    case NmpcStatus::step_taken:
+      return "step_taken";
+    case NmpcStatus::prepared:
+      return "prepared";
+    case NmpcStatus::iteration_limit:
+      return "iteration_limit";
+    case NmpcStatus::qp_failed:
+      return "qp_failed";
+    case NmpcStatus::line_search_failed:
+      return "line_search_failed";
+    case NmpcStatus::non_finite_input:
+      return "non_finite_input";
+    case NmpcStatus::non_finite_evaluation:
+      return "non_finite_evaluation";
+    case NmpcStatus::not_prepared:
+      return "not_prepared";
+  }
+  return "unknown";
+}
+
+/// True when the status means the plan was updated as requested.
+constexpr bool succeeded(NmpcStatus s) {
+  return s == NmpcStatus::converged || s == NmpcStatus::step_taken || s == NmpcStatus::prepared;
+}
+
+/// Figures of the last solve(), or of the last prepare()/feedback() pair.
+template <class Scalar>
+struct NmpcInfo {
+  int iterations = 0;                                ///< SQP iterations (QP solves) of the call
+  int qp_iterations = 0;                             ///< active-set iterations, summed over the QPs
+  qp::QpStatus qp_status = qp::QpStatus::not_setup;  ///< status of the last QP call
+  Scalar stationarity = 0;     ///< |grad_w L|_inf at the last linearisation point
+  Scalar primal_residual = 0;  ///< max |defect|, bound or constraint violation
+  Scalar complementarity = 0;  ///< max |multiplier * distance to its bound|
+  Scalar step_norm = 0;        ///< |d|_inf of the last QP step (before alpha)
+  Scalar step_size = 0;        ///< alpha of the last step (1 in real-time mode)
+  Scalar merit = 0;            ///< L1 merit at the last accepted point
+  Scalar penalty = 0;          ///< the merit's penalty weight nu
+  int line_search_steps = 0;   ///< backtracking steps of the last line search
+};
+
+}  // namespace arbor::nmpc

@@ -1,0 +1,418 @@
+// arbor::ocp: one SQP linearisation of a stage, written straight into the QP's stage blocks (delta
+// form: the QP variables are the steps dx_k, [du_k; ds_k]):
+//   dynamics     A_k = dF/dx, B_k = [dF/du, 0] (slack columns zero), b_k = F(x_k, u_k, p_k) -
+//   x_{k+1} cost         q, r = gradient of the stage cost (slacks: l1 + 2 l2 s) Hessian
+//   Gauss-Newton (SCQP): sum J_r' grad^2 phi J_r + sum mu_i J_c' grad^2 psi_i J_c
+//                (mu_i = max(0, multiplier) of convex constraint i), slacks 2 l2: positive
+//                semidefinite by construction, no second derivative of any inner function;
+//                exact: the Hessian of the stage Lagrangian in (x, u) from the expression layer
+//                (nested duals), then made convex (see convexify below)
+//   constraints  rows in the order of the terms: a hard constraint g gives lg - g <= J d <= ug - g;
+//                a soft one gives a lower row J d + ds >= lg - g and an upper row J d - ds <=
+//                ug - g; a convex constraint gives grad psi' J_c d (- ds) <= -psi(c)
+// Variable bounds and the embedding of x_0 are the solver's (nmpc/): they change without
+// relinearising. Multipliers follow the QP's sign convention (qp/problem.hpp): the stage
+// Lagrangian is f + lam_dyn' (x_{k+1} - F) + mu' g.
+// Cost per path stage: one evaluation of F and of each inner function at Dual<T, nx + nu>, and
+// O(rows (nx + nu)^2) for the Hessian products; exact Hessians add one evaluation of the
+// Lagrangian at Dual<Dual<T, n>, n> and an n x n eigen-decomposition.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <cstddef>
+#include <tuple>
+#include <type_traits>
+
+#include "arbor/ad/dual.hpp"
+#include "arbor/ad/expr/blocks.hpp"
+#include "arbor/ad/expr/elementwise.hpp"
+#include "arbor/ad/expr/evaluate.hpp"
+#include "arbor/ad/expr/reductions.hpp"
+#include "arbor/ocp/outer.hpp"
+#include "arbor/ocp/problem.hpp"
+#include "arbor/qp/problem.hpp"
+
+namespace arbor::ocp {
+
+/// Which Hessian a linearisation builds.
+enum class HessianKind : unsigned char {
+  gauss_newton,  ///< SCQP: from the outer functions' Hessians (PSD by construction)
+  exact,         ///< exact Hessian of the Lagrangian, convexified per stage
+};
+
+/// Name of a HessianKind value.
+constexpr const char* to_string(HessianKind h) {
+  switch (h) {
+    case HessianKind::gauss_newton:
+      return "gauss_newton";
+    case HessianKind::exact:
+      return "exact";
+  }
+  return "unknown";
+}
+
+/// QP rows of a stage: the constraints' rows, or one free row (C = 0, bounds +-inf) when there
+/// are none (the QP solver is instantiated with at least one row per stage).
+constexpr int qp_rows(int rows) {
+  return rows > 0 ? rows : 1;
+}
+
+/// The QP a problem P linearises into, at scalar T.
+template <class P, class T>
+using QpOf = qp::OcpQp<T, P::horizon, P::nx, P::nu + P::ns, qp_rows(P::ng), qp_rows(P::ngn)>;
+
+namespace detail {
+
+template <class Tuple, class F>
+void for_each_term(const Tuple& t, F&& f) {
+  std::apply([&](const auto&... term) { (f(term), ...); }, t);
+}
+
+template <class C>
+inline constexpr bool is_convex_constraint_v = false;
+template <class E, class Psi, bool Soft>
+inline constexpr bool is_convex_constraint_v<ConvexConstraint<E, Psi, Soft>> = true;
+
+/// Value v and Jacobian J (rows x n) of e with respect to the arguments Wrt..., from one
+/// evaluation at Dual<T, n>.
+template <int n, int... Wrt, class E, class T, class... A>
+void value_jacobian(const E& e, VecN<T, E::rows>& v, Eigen::Matrix<T, E::rows, n>& J,
+                    const A&... args) {
+  const auto r = ad::detail::eval_at<ad::Dual<T, n>, Wrt...>(e, args...);
+  for (int i = 0; i < E::rows; ++i) {
+    v[i] = r[i].v;
+    for (int k = 0; k < n; ++k)
+      J(i, k) = r[i].d[k];
+  }
+}
+
+/// The scalar stage Lagrangian as an expression in (x, u, p, lam_dyn = Symbol<3, nx>,
+/// mu = Symbol<4, nm>): costs + mu' g (+ mu_i psi_i(c_i)) [- lam_dyn' F].
+template <int NX, int NM, class Costs, class Cons, class Dyn>
+auto lagrangian(const Costs& costs, const Cons& cons, const Dyn* dyn) {
+  constexpr ad::Symbol<4, (NM > 0 ? NM : 1)> mu{};
+  auto cost_part = std::apply(
+      [](const auto&... c) {
+        return (ad::constant(0.0) + ... + OuterExpr<decltype(c.phi), decltype(c.r)>{c.phi, c.r});
+      },
+      costs.terms);
+  auto with_cons = [&]<std::size_t... I>(std::index_sequence<I...>) {
+    constexpr auto offsets = [] {
+      std::array<int, sizeof...(I) + 1> o{};
+      int acc = 0, i = 0;
+      ((o[std::size_t(i++)] = acc, acc += std::tuple_element_t<I, decltype(cons.terms)>::rows),
+       ...);
+      return o;
+    }();
+    auto term = [&]<std::size_t J>(std::integral_constant<std::size_t, J>) {
+      const auto& c = std::get<J>(cons.terms);
+      using C = std::remove_cvref_t<decltype(c)>;
+      constexpr int off = offsets[J];
+      if constexpr (is_convex_constraint_v<C>)
+        return ad::element<off>(mu) * OuterExpr<decltype(c.psi), decltype(c.c)>{c.psi, c.c};
+      else
+        return ad::dot(ad::segment<off, C::rows>(mu), c.g);
+    };
+    return (cost_part + ... + term(std::integral_constant<std::size_t, I>{}));
+  }
+  (std::make_index_sequence<std::tuple_size_v<decltype(cons.terms)>>{});
+  if constexpr (std::is_same_v<Dyn, void>)
+    return with_cons;
+  else
+    return with_cons - ad::dot(ad::Symbol<3, NX>{}, *dyn);
+}
+
+}  // namespace detail
+
+/// Makes a symmetric block positive definite: eigenvalues below `floor` are raised to it (the
+/// block is unchanged when its eigenvalues are all above it). Multiple shooting makes the
+/// Lagrangian's Hessian block diagonal per stage, so clipping each block keeps the QP convex;
+/// near a solution with positive definite blocks the exact Newton step is kept (superlinear
+/// convergence); with an indefinite block (positive only on the constraints' null space) the
+/// step is that of a modified Newton method. Cost: one n x n symmetric eigen-decomposition.
+template <class T, int n>
+void convexify(MatN<T, n>& H, T floor) {
+  const MatN<T, n> sym = T(0.5) * (H + H.transpose());
+  Eigen::SelfAdjointEigenSolver<MatN<T, n>> es(sym);
+  VecN<T, n> ev = es.eigenvalues();
+  bool changed = false;
+  for (int i = 0; i < n; ++i) {
+    if (ev[i] < floor) {
+      ev[i] = floor;
+      changed = true;
+    }
+  }
+  if (changed)
+    H = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+  else
+    H = sym;
+}
+
+/// Linearises path stage (x, w = [u; s], p; successor x_next) into the QP stage `st` (every
+/// member but the variable bounds lbx, ubx, lbu, ubu). lam_dyn and lam_g are the multipliers of
+/// the stage's dynamics and QP rows (used by the Gauss-Newton term of convex constraints and by
+/// the exact Hessian). `floor`: the exact Hessian's eigenvalue floor.
+template <HessianKind H, class P, class T, class Stage>
+void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu + P::ns>& w,
+                    const VecN<T, P::np>& p, const VecN<T, P::nx>& x_next,
+                    const VecN<T, P::nx>& lam_dyn, const VecN<T, qp_rows(P::ng)>& lam_g, Stage& st,
+                    T floor = T(0)) {
+  constexpr int nx = P::nx, nu = P::nu, ns = P::ns, n = nx + nu;
+  constexpr T inf = std::numeric_limits<T>::infinity();
+  const VecN<T, nu> u = w.template head<nu>();
+  MatN<T, n> hess = MatN<T, n>::Zero();
+  VecN<T, n> grad = VecN<T, n>::Zero();
+  st.S.setZero();
+  st.R.setZero();
+  st.r.setZero();
+
+  {  // dynamics, straight into A and B
+    const auto r = ad::detail::eval_at<ad::Dual<T, n>, 0, 1>(prob.dynamics, x, u, p);
+    for (int i = 0; i < nx; ++i) {
+      st.b[i] = r[i].v - x_next[i];
+      for (int k = 0; k < nx; ++k)
+        st.A(i, k) = r[i].d[k];
+      for (int k = 0; k < nu; ++k)
+        st.B(i, k) = r[i].d[nx + k];
+      for (int k = nu; k < nu + ns; ++k)
+        st.B(i, k) = T(0);
+    }
+  }
+
+  detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
+    constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
+    VecN<T, m> rv;
+    Eigen::Matrix<T, m, n> J;
+    detail::value_jacobian<n, 0, 1>(c.r, rv, J, x, u, p);
+    grad.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
+    if constexpr (H == HessianKind::gauss_newton)
+      hess.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
+  });
+
+  if constexpr (P::ng == 0) {  // the free row
+    st.C.setZero();
+    st.D.setZero();
+    st.lg.setConstant(-inf);
+    st.ug.setConstant(inf);
+  }
+  int row = 0, slack = 0, nl = 0;
+  [[maybe_unused]] VecN<T, (P::nm > 0 ? P::nm : 1)> mu = decltype(mu)::Zero();
+  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    if constexpr (detail::is_convex_constraint_v<C>) {
+      constexpr int m = decltype(c.c)::rows;
+      VecN<T, m> cv;
+      Eigen::Matrix<T, m, n> J;
+      detail::value_jacobian<n, 0, 1>(c.c, cv, J, x, u, p);
+      const Eigen::Matrix<T, 1, n> jrow = c.psi.template gradient<T, m>(cv).transpose() * J;
+      st.C.row(row) = jrow.template head<nx>();
+      st.D.row(row).template head<nu>() = jrow.template tail<nu>();
+      st.D.row(row).template tail<ns>().setZero();
+      st.lg[row] = -inf;
+      st.ug[row] = -c.psi.template value<T, m>(cv);
+      const T mui = lam_g[row];
+      mu[nl] = mui;
+      if constexpr (H == HessianKind::gauss_newton) {
+        if (mui > T(0))
+          hess.noalias() += mui * (J.transpose() * c.psi.template hessian<T, m>(cv) * J);
+      }
+      if constexpr (C::soft) {
+        st.D(row, nu + slack) = T(-1);
+        ++slack;
+      }
+      ++row;
+      ++nl;
+    } else {
+      constexpr int m = C::rows;
+      VecN<T, m> gv;
+      Eigen::Matrix<T, m, n> J;
+      detail::value_jacobian<n, 0, 1>(c.g, gv, J, x, u, p);
+      const int copies = C::soft ? 2 : 1;
+      for (int side = 0; side < copies; ++side) {
+        st.C.template middleRows<m>(row + side * m) = J.template leftCols<nx>();
+        st.D.template middleRows<m>(row + side * m).template leftCols<nu>() =
+            J.template rightCols<nu>();
+        st.D.template middleRows<m>(row + side * m).template rightCols<ns>().setZero();
+      }
+      for (int i = 0; i < m; ++i) {
+        const T lo = T(c.lg[std::size_t(i)]) - gv[i], hi = T(c.ug[std::size_t(i)]) - gv[i];
+        if constexpr (C::soft) {
+          st.lg[row + i] = lo;  // lower row: J d + ds >= lg - g
+          st.ug[row + i] = inf;
+          st.D(row + i, nu + slack + i) = T(1);
+          st.lg[row + m + i] = -inf;  // upper row: J d - ds <= ug - g
+          st.ug[row + m + i] = hi;
+          st.D(row + m + i, nu + slack + i) = T(-1);
+          mu[nl + i] = lam_g[row + i] + lam_g[row + m + i];
+        } else {
+          st.lg[row + i] = lo;
+          st.ug[row + i] = hi;
+          mu[nl + i] = lam_g[row + i];
+        }
+      }
+      row += C::qp_rows;
+      slack += C::slacks;
+      nl += m;
+    }
+  });
+
+  // slack costs l1 s + l2 s^2 (the slack columns follow the terms' order)
+  slack = 0;
+  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    for (int j = 0; j < C::slacks; ++j) {
+      const int i = nu + slack + j;
+      st.r[i] = T(c.l1) + T(2 * c.l2) * w[i];
+      st.R(i, i) = T(2 * c.l2);
+    }
+    slack += C::slacks;
+  });
+
+  if constexpr (H == HessianKind::exact) {
+    const auto L =
+        detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
+    hess = ad::hessian<0, 1>(L, x, u, p, lam_dyn, mu);
+    convexify<T, n>(hess, floor);
+  }
+  st.Q = hess.template topLeftCorner<nx, nx>();
+  st.S.template topRows<nu>() = hess.template bottomLeftCorner<nu, nx>();
+  st.R.template topLeftCorner<nu, nu>() = hess.template bottomRightCorner<nu, nu>();
+  st.q = grad.template head<nx>();
+  st.r.template head<nu>() = grad.template tail<nu>();
+}
+
+/// Linearises the terminal stage (x, p) into `t` (every member but lbx, ubx); lam_g: the
+/// multipliers of its QP rows.
+template <HessianKind H, class P, class T, class Terminal>
+void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p,
+                        const VecN<T, qp_rows(P::ngn)>& lam_g, Terminal& t, T floor = T(0)) {
+  constexpr int nx = P::nx;
+  constexpr T inf = std::numeric_limits<T>::infinity();
+  const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();  // terminal terms do not depend on u
+  t.Q.setZero();
+  t.q.setZero();
+  detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
+    constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
+    VecN<T, m> rv;
+    Eigen::Matrix<T, m, nx> J;
+    detail::value_jacobian<nx, 0>(c.r, rv, J, x, u0, p);
+    t.q.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
+    if constexpr (H == HessianKind::gauss_newton)
+      t.Q.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
+  });
+  if constexpr (P::ngn == 0) {  // the free row
+    t.C.setZero();
+    t.lg.setConstant(-inf);
+    t.ug.setConstant(inf);
+  }
+  int row = 0;
+  [[maybe_unused]] VecN<T, (P::nmn > 0 ? P::nmn : 1)> mu = decltype(mu)::Zero();
+  detail::for_each_term(prob.terminal_constraints.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    if constexpr (detail::is_convex_constraint_v<C>) {
+      constexpr int m = decltype(c.c)::rows;
+      VecN<T, m> cv;
+      Eigen::Matrix<T, m, nx> J;
+      detail::value_jacobian<nx, 0>(c.c, cv, J, x, u0, p);
+      t.C.row(row) = c.psi.template gradient<T, m>(cv).transpose() * J;
+      t.lg[row] = -inf;
+      t.ug[row] = -c.psi.template value<T, m>(cv);
+      mu[row] = lam_g[row];
+      if constexpr (H == HessianKind::gauss_newton) {
+        if (lam_g[row] > T(0))
+          t.Q.noalias() += lam_g[row] * (J.transpose() * c.psi.template hessian<T, m>(cv) * J);
+      }
+      ++row;
+    } else {
+      constexpr int m = C::rows;
+      VecN<T, m> gv;
+      Eigen::Matrix<T, m, nx> J;
+      detail::value_jacobian<nx, 0>(c.g, gv, J, x, u0, p);
+      t.C.template middleRows<m>(row) = J;
+      for (int i = 0; i < m; ++i) {
+        t.lg[row + i] = T(c.lg[std::size_t(i)]) - gv[i];
+        t.ug[row + i] = T(c.ug[std::size_t(i)]) - gv[i];
+        mu[row + i] = lam_g[row + i];
+      }
+      row += m;
+    }
+  });
+  if constexpr (H == HessianKind::exact) {
+    const auto L = detail::lagrangian<nx, P::nmn>(prob.terminal_costs, prob.terminal_constraints,
+                                                  static_cast<const void*>(nullptr));
+    t.Q = ad::hessian<0>(L, x, u0, p, VecN<T, nx>::Zero().eval(), mu);
+    convexify<T, nx>(t.Q, floor);
+  }
+}
+
+/// Cost and L1 infeasibility of a path stage (merit function pieces; bounds excluded).
+template <class T>
+struct StageMerit {
+  T cost = T(0);       ///< stage cost, slack costs included
+  T violation = T(0);  ///< sum of |F - x_next| and of the constraints' violations
+};
+
+/// Cost and constraint violation of path stage (x, w = [u; s], p) with successor x_next.
+template <class P, class T>
+StageMerit<T> path_merit(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu + P::ns>& w,
+                         const VecN<T, P::np>& p, const VecN<T, P::nx>& x_next) {
+  constexpr int nu = P::nu;
+  const VecN<T, nu> u = w.template head<nu>();
+  StageMerit<T> m;
+  m.violation = (ad::evaluate(prob.dynamics, x, u, p) - x_next).cwiseAbs().sum();
+  detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
+    constexpr int r = std::remove_cvref_t<decltype(c)>::rows;
+    m.cost += c.phi.template value<T, r>(ad::evaluate(c.r, x, u, p));
+  });
+  int slack = nu;
+  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    if constexpr (detail::is_convex_constraint_v<C>) {
+      constexpr int r = decltype(c.c)::rows;
+      T v = c.psi.template value<T, r>(ad::evaluate(c.c, x, u, p));
+      if constexpr (C::soft)
+        v -= w[slack];
+      m.violation += v > T(0) ? v : T(0);
+    } else {
+      const auto g = ad::evaluate(c.g, x, u, p);
+      for (int i = 0; i < C::rows; ++i) {
+        const T s = C::soft ? w[slack + i] : T(0);
+        const T lo = T(c.lg[std::size_t(i)]) - s - g[i], hi = g[i] - s - T(c.ug[std::size_t(i)]);
+        m.violation += (lo > T(0) ? lo : T(0)) + (hi > T(0) ? hi : T(0));
+      }
+    }
+    for (int j = 0; j < C::slacks; ++j)
+      m.cost += T(c.l1) * w[slack + j] + T(c.l2) * w[slack + j] * w[slack + j];
+    slack += C::slacks;
+  });
+  return m;
+}
+
+/// Cost and constraint violation of the terminal stage.
+template <class P, class T>
+StageMerit<T> terminal_merit(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p) {
+  const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();
+  StageMerit<T> m;
+  detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
+    constexpr int r = std::remove_cvref_t<decltype(c)>::rows;
+    m.cost += c.phi.template value<T, r>(ad::evaluate(c.r, x, u0, p));
+  });
+  detail::for_each_term(prob.terminal_constraints.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    if constexpr (detail::is_convex_constraint_v<C>) {
+      constexpr int r = decltype(c.c)::rows;
+      const T v = c.psi.template value<T, r>(ad::evaluate(c.c, x, u0, p));
+      m.violation += v > T(0) ? v : T(0);
+    } else {
+      const auto g = ad::evaluate(c.g, x, u0, p);
+      for (int i = 0; i < C::rows; ++i) {
+        const T lo = T(c.lg[std::size_t(i)]) - g[i], hi = g[i] - T(c.ug[std::size_t(i)]);
+        m.violation += (lo > T(0) ? lo : T(0)) + (hi > T(0) ? hi : T(0));
+      }
+    }
+  });
+  return m;
+}
+
+}  // namespace arbor::ocp

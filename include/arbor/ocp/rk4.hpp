@@ -1,0 +1,96 @@
+// arbor::ocp: a continuous ODE xdot = f(x, u, p) made a discrete map x+ = F(x, u, p) by explicit
+// Runge-Kutta 4 with M steps of length h / M over a shooting interval h:
+//   auto F = ocp::rk4<M>(f, h);   // f an expression in x = Symbol<0, nx>, u, p; F one too
+// F is an expression node: it is differentiated (first and second order) by the expression layer
+// like any other, and an RBD call inside f keeps its derivative provider (call<Analytical> ...).
+// No `let` pyramid to write: the node evaluates f at the four stage states of each step by
+// substituting the state argument (the other arguments, u and p, are shared).
+// Cost: 4 M evaluations of f plus 10 M nx scalar operations; at S = Dual<T, n> every evaluation of
+// f is one at S. Stack: 6 nx values of S.
+#pragma once
+
+#include "arbor/ad/expr/scalar.hpp"
+#include "arbor/ad/expr/values.hpp"
+
+namespace arbor::ocp {
+
+namespace detail {
+/// An environment equal to Parent except that argument 0 (the state) is `x`. Derivatives of x are
+/// general (not unit seeds), so the environment is not `seeded` (call nodes apply the chain rule).
+template <class Parent, class V>
+struct StateEnv {
+  using Scalar = typename Parent::Scalar;  ///< scalar type of the evaluation
+  static constexpr bool seeded = false;    ///< argument 0 is not a seeded argument
+  const Parent& parent;                    ///< enclosing environment
+  const V& x;                              ///< the substituted state
+  /// First derivative direction of argument Id (as the parent's).
+  template <int Id>
+  static constexpr int offset() {
+    return Parent::template offset<Id>();
+  }
+  /// Argument Id: the substituted state for Id 0, the parent's otherwise.
+  template <int Id>
+  const auto& arg() const {
+    if constexpr (Id == 0)
+      return x;
+    else
+      return parent.template arg<Id>();
+  }
+  /// Value bound by an enclosing let.
+  template <class K>
+  const auto& bound() const {
+    return parent.template bound<K>();
+  }
+};
+}  // namespace detail
+
+/// Expression node: M explicit RK4 steps of f over an interval h (see the top of this file).
+template <int M, ad::Expression F>
+struct Rk4Expr {
+  static_assert(M >= 1, "rk4<M>: M >= 1 steps");
+  using expression_tag = void;          ///< marks an expression node
+  static constexpr int rows = F::rows;  ///< state size (f returns xdot)
+  F f;                                  ///< the ODE right-hand side
+  double h;                             ///< interval length
+  /// x after M steps.
+  template <class Env>
+  ad::Values<typename Env::Scalar, rows> eval(const Env& env) const {
+    using S = typename Env::Scalar;
+    using B = ad::detail::base_t<S>;
+    using V = ad::Values<S, rows>;
+    constexpr int n = rows;
+    const B dt = B(h / M), half = B(h / (2 * M)), sixth = B(h / (6 * M));
+    V x = env.template arg<0>();
+    static_assert(V::size == n, "rk4: the state argument (Symbol<0, n>) must have f's size");
+    V xs, acc;
+    for (int m = 0; m < M; ++m) {
+      const V k1 = f.eval(detail::StateEnv<Env, V>{env, x});
+      for (int i = 0; i < n; ++i) {
+        xs[i] = x[i] + ad::detail::scale(k1[i], half);
+        acc[i] = k1[i];
+      }
+      const V k2 = f.eval(detail::StateEnv<Env, V>{env, xs});
+      for (int i = 0; i < n; ++i) {
+        xs[i] = x[i] + ad::detail::scale(k2[i], half);
+        acc[i] = acc[i] + ad::detail::scale(k2[i], B(2));
+      }
+      const V k3 = f.eval(detail::StateEnv<Env, V>{env, xs});
+      for (int i = 0; i < n; ++i) {
+        xs[i] = x[i] + ad::detail::scale(k3[i], dt);
+        acc[i] = acc[i] + ad::detail::scale(k3[i], B(2));
+      }
+      const V k4 = f.eval(detail::StateEnv<Env, V>{env, xs});
+      for (int i = 0; i < n; ++i)
+        x[i] = x[i] + ad::detail::scale(acc[i] + k4[i], sixth);
+    }
+    return x;
+  }
+};
+
+/// F(x, u, p): M RK4 steps of xdot = f(x, u, p) over an interval h.
+template <int M, ad::Expression F>
+Rk4Expr<M, F> rk4(const F& f, double h) {
+  return {f, h};
+}
+
+}  // namespace arbor::ocp
