@@ -100,12 +100,12 @@ auto lagrangian(const Costs& costs, const Cons& cons, const Dyn* dyn) {
   auto with_cons = [&]<std::size_t... I>(std::index_sequence<I...>) {
     constexpr auto offsets = [] {
       std::array<int, sizeof...(I) + 1> o{};
-      int acc = 0, i = 0;
+      [[maybe_unused]] int acc = 0, i = 0;
       ((o[std::size_t(i++)] = acc, acc += std::tuple_element_t<I, decltype(cons.terms)>::rows),
        ...);
       return o;
     }();
-    auto term = [&]<std::size_t J>(std::integral_constant<std::size_t, J>) {
+    [[maybe_unused]] auto term = [&]<std::size_t J>(std::integral_constant<std::size_t, J>) {
       const auto& c = std::get<J>(cons.terms);
       using C = std::remove_cvref_t<decltype(c)>;
       constexpr int off = offsets[J];
