@@ -124,7 +124,7 @@ void bm_factor(benchmark::State& state) {
   for (auto _ : state) {
     be.mark_all();
     done = be.factorize(ws.data(), f.solver.settings().reg_primal, w, wa);
-    benchmark::DoNotOptimize(be.u_term.data());
+    benchmark::DoNotOptimize(be.l_term.data());
   }
   state.counters["stages"] = done;
 }

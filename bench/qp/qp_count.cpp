@@ -1,7 +1,11 @@
 // Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
 // toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
 // the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
+// Every variant runs with the default backend; the double variants also with the reference
+// block-tridiagonal Cholesky ("chol_" labels), and one full factorization of each backend is
+// measured on its own ("factor" labels: dynamics rows and x_0 in the working set).
 //   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
+#include <array>
 #include <cstdio>
 
 #include "arbor/qp/ocp_qp_solver.hpp"
@@ -27,15 +31,22 @@ using arbor::qp::Convexity;
 using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
 
-template <typename Qp>
+template <typename Qp, typename Backend>
 struct Case {
   Qp nominal, perturbed, live;
-  OcpQpSolver<Qp> solver;
+  OcpQpSolver<Qp, Backend> solver;
 };
 
 template <typename Qp>
+using Default = typename arbor::qp::detail::DefaultOcpBackend<Qp>::type;
+template <typename Qp>
+using Cholesky =
+    arbor::qp::detail::OcpCholeskyBackend<typename decltype(Qp{}.terminal.q)::Scalar, Qp::horizon,
+                                          Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+
+template <typename Qp, typename Backend = Default<Qp>>
 void run(const char* name) {
-  static Case<Qp> c;  // static storage: ~0.3 MB
+  static Case<Qp, Backend> c;  // static storage: ~0.3 MB
   make_kinova_qp(c.nominal, 1);
   make_kinova_qp(c.perturbed, 1, 1e-3, 0.01);
   using Scalar = typename decltype(c.nominal.terminal.q)::Scalar;
@@ -78,11 +89,41 @@ void run(const char* name) {
       i.active_constraints, double(i.primal_residual), double(i.dual_residual),
       arbor::qp::to_string(su));
   std::printf("%-10s sizeof(solver) %zu bytes, sizeof(problem) %zu bytes\n", name,
-              sizeof(OcpQpSolver<Qp>), sizeof(Qp));
+              sizeof(OcpQpSolver<Qp, Backend>), sizeof(Qp));
+}
+
+/// One full factorization, the working set of a fresh solve (dynamics rows, x_0 fixed).
+template <typename Qp, typename Backend>
+void factor(const char* name) {
+  using Scalar = typename decltype(Qp{}.terminal.q)::Scalar;
+  using arbor::qp::detail::ConstraintState;
+  static Qp qp;
+  static Backend be;
+  static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
+  make_kinova_qp(qp, 1);
+  for (int i = 0; i < Qp::nv + Qp::na; ++i)
+    ws[i] = i >= Qp::nv || i < Qp::nx ? ConstraintState::equality : ConstraintState::inactive;
+  static Eigen::Matrix<Scalar, Qp::na, 1> wa;
+  be.p = &qp;
+  be.row_norms_sq(wa);
+  const arbor::qp::QpSettings<Scalar> s;
+  const Scalar w = Scalar(1) / s.reg_dual;
+  for (int j = 0; j < Qp::na; ++j)
+    wa(j) = w / wa(j);
+  int done = 0;
+  be.mark_all();
+  ARBOR_MEASURE(name, (done = be.factorize(ws.data(), s.reg_primal, w, wa)));
+  std::printf("%-22s %d stage blocks\n", name, done);
 }
 }  // namespace
 
 int main() {
+  factor<KinovaQp<double, 1>, Default<KinovaQp<double, 1>>>("fd_double/factor");
+  factor<KinovaQp<double, 1>, Cholesky<KinovaQp<double, 1>>>("fd_double/chol_factor");
+  factor<KinovaQp<float, 1>, Default<KinovaQp<float, 1>>>("fd_float/factor");
+  factor<KinovaQp<float, 1>, Cholesky<KinovaQp<float, 1>>>("fd_float/chol_factor");
+  run<KinovaQp<double, 1>, Cholesky<KinovaQp<double, 1>>>("fd_chol");
+  run<KinovaQp<double, 8>, Cholesky<KinovaQp<double, 8>>>("id_chol");
   run<KinovaQp<double, 1>>("fd_double");
   run<KinovaQp<double, 8>>("id_double");
   run<KinovaQp<float, 1>>("fd_float");

@@ -398,6 +398,8 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
     const int done = be.factorize(ws.data(), delta_, w_, wa_);
     if (done >= 0) {
       info.stages_factorized += done;
+      if constexpr (requires { be.updates_last; })
+        info.factor_updates += be.updates_last;
       break;
     }
     delta_ *= Scalar(10);

@@ -2,8 +2,11 @@
 //
 // Active-set logic: active_set.hpp (QRQP-style primal-dual, one change per iteration, ratio test
 // with primal blocking constraints and dual break points, warm start from x and lam). Linear
-// algebra: ocp_backend.hpp (block-tridiagonal Cholesky exploiting the stage structure).
-// Cost: O(N (NX+NU)^3) per factorization, O(N (NX+NU)^2) per iteration otherwise.
+// algebra: ocp_backend.hpp (stage-wise block elimination with vectorisable kernels, rank-one
+// updates for working-set changes; the default) or ocp_cholesky_backend.hpp (the first
+// block-tridiagonal Cholesky, kept for comparison: OcpQpSolver<Qp, OcpCholeskyBackend<...>>).
+// Cost: O(N (NX+NU)^3) per full factorization (one per solve), O(N (NX+NU)^2) per working-set
+// change and per iteration otherwise.
 // Memory (scalars): N (NW^2 + NW NX) + NX^2 for the factor, about 11 NV + 8 NA for the
 // iterate and workspace, with NW = NX + NU, NV = N NW + NX, NA = N (NX+NG) + NGN; no dense KKT
 // matrix. Copy/reference rule (problem.hpp): the vectors (q, r, b, bounds) are copied by
@@ -28,6 +31,7 @@
 #include "arbor/core/config.hpp"
 #include "arbor/qp/data_checks.hpp"
 #include "arbor/qp/ocp_backend.hpp"
+#include "arbor/qp/ocp_cholesky_backend.hpp"
 #include "arbor/qp/problem.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/solver_base.hpp"
@@ -35,18 +39,29 @@
 
 namespace arbor::qp {
 
-/// Structure-exploiting active-set solver for an OcpQp type `Qp` (see the top of this file).
+namespace detail {
+/// The default linear algebra of OcpQpSolver<Qp>.
 template <typename Qp>
+struct DefaultOcpBackend;
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+struct DefaultOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
+  using type = OcpBackend<Scalar, N, NX, NU, NG, NGN>;
+};
+}  // namespace detail
+
+/// Structure-exploiting active-set solver for an OcpQp type `Qp` (see the top of this file).
+/// `Backend` selects the linear algebra (the default, or detail::OcpCholeskyBackend for
+/// comparisons); both take the same problem and give the same results up to round-off.
+template <typename Qp, typename Backend = typename detail::DefaultOcpBackend<Qp>::type>
 class OcpQpSolver;
 
-template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
-class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>>
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN, typename BackendT>
+class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     : public detail::ActiveSetSolver<Scalar, OcpQp<Scalar, N, NX, NU, NG, NGN>::nv,
-                                     OcpQp<Scalar, N, NX, NU, NG, NGN>::na,
-                                     detail::OcpBackend<Scalar, N, NX, NU, NG, NGN>> {
+                                     OcpQp<Scalar, N, NX, NU, NG, NGN>::na, BackendT> {
  public:
   using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
-  using Backend = detail::OcpBackend<Scalar, N, NX, NU, NG, NGN>;
+  using Backend = BackendT;
 
   /// Keeps a pointer to p and the settings, then update(Convexity::checked). The current
   /// iterate is kept (warm start); call cold_start() to reset it.

@@ -56,6 +56,7 @@ struct SolveInfo {
   int active_set_changes = 0;    ///< constraints added or dropped
   int factorizations = 0;        ///< (partial) refactorizations after a working-set change
   int stages_factorized = 0;     ///< stage blocks refactorized in total (OCP solver; dense: 1 each)
+  int factor_updates = 0;        ///< working-set changes applied as rank-one factor updates (OCP)
   int regularization_bumps = 0;  ///< times the primal regularisation was raised (round-off)
   Scalar primal_residual = 0;    ///< max constraint violation
   Scalar dual_residual = 0;      ///< max |grad of the Lagrangian|

@@ -1,0 +1,165 @@
+// The OCP solver's linear algebra against a dense reference: for random stage data and random
+// working sets, M = H + delta I + A_W' E A_W is assembled densely here (dynamic Eigen, from the
+// definition in active_set.hpp) and M^-1 b computed with Eigen's LLT; both backends (the default
+// block elimination with rank-one updates, and the reference block-tridiagonal Cholesky) must
+// agree with it after a full factorization and after sequences of working-set changes applied
+// through mark_changed() (rank-one updates, downdates and their refactorization fallback).
+// Every backend call runs inside an allocation guard.
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <array>
+#include <random>
+
+#include "alloc_guard.hpp"
+#include "arbor/qp/ocp_backend.hpp"
+#include "arbor/qp/ocp_cholesky_backend.hpp"
+#include "qp_reference.hpp"
+
+namespace {
+using arbor::qp::OcpQp;
+using arbor::qp::detail::ConstraintState;
+namespace t = arbor::qp::test;
+
+template <typename Qp>
+Eigen::MatrixXd dense_m(const t::RefQp& r, const ConstraintState* ws, double delta, double w,
+                        const Eigen::VectorXd& wa) {
+  const int nv = Qp::nv, na = Qp::na;
+  Eigen::MatrixXd m = r.H;
+  m.diagonal().array() += delta;
+  for (int i = 0; i < nv; ++i) {
+    if (ws[i] != ConstraintState::inactive)
+      m(i, i) += w;
+  }
+  for (int j = 0; j < na; ++j) {
+    if (ws[nv + j] != ConstraintState::inactive)
+      m += wa(j) * r.A.row(j).transpose() * r.A.row(j);
+  }
+  return m;
+}
+
+template <typename Qp, typename Backend>
+void check_backend(unsigned seed0, int count) {
+  constexpr int nv = Qp::nv, na = Qp::na, N = Qp::horizon, NX = Qp::nx, NG = Qp::ng;
+  static Qp qp;
+  static Backend be;
+  static std::array<ConstraintState, nv + na> ws{};
+  t::RandomOcpOptions opt;
+  for (int c = 0; c < count; ++c) {
+    std::mt19937 rng(seed0 + static_cast<unsigned>(c));
+    t::random_ocp(qp, rng, opt);
+    const t::RefQp ref = t::to_ref(qp);
+    std::uniform_int_distribution<int> coin(0, 2);
+    for (int i = 0; i < nv + na; ++i)
+      ws[i] = coin(rng) == 0 ? ConstraintState::upper : ConstraintState::inactive;
+    for (int k = 0; k < N; ++k) {  // dynamics rows are equalities
+      for (int i = 0; i < NX; ++i)
+        ws[nv + k * (NX + NG) + i] = ConstraintState::equality;
+    }
+    const double delta = 1e-8, w = 1e6;
+    Eigen::Matrix<double, na, 1> wa;
+    Eigen::Matrix<double, nv, 1> b, x;
+    int done = 0;
+    be.p = &qp;
+    {
+      arbor::test::NoAllocScope guard;
+      be.row_norms_sq(wa);
+    }
+    for (int j = 0; j < na; ++j)
+      wa(j) = wa(j) > 0 ? w / wa(j) : w;
+    {
+      arbor::test::NoAllocScope guard;
+      be.mark_all();
+      done = be.factorize(ws.data(), delta, w, wa);
+    }
+    SCOPED_TRACE(::testing::Message() << "seed " << seed0 + c);
+    ASSERT_EQ(done, N + 1);
+    std::uniform_int_distribution<int> pick(0, nv + na - 1);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    for (int round = 0; round < 12; ++round) {
+      const Eigen::MatrixXd m = dense_m<Qp>(ref, ws.data(), delta, w, wa);
+      for (int i = 0; i < nv; ++i)
+        b(i) = nd(rng);
+      const Eigen::VectorXd xr = m.llt().solve(Eigen::VectorXd(b));
+      x = b;
+      {
+        arbor::test::NoAllocScope guard;
+        be.solve(x);
+      }
+      // relative to the solution's size: M has entries up to ~1e6 and is ill-conditioned
+      const double err = (Eigen::VectorXd(x) - xr).cwiseAbs().maxCoeff();
+      const double res = (m * Eigen::VectorXd(x) - Eigen::VectorXd(b)).cwiseAbs().maxCoeff();
+      EXPECT_LE(res, 1e-12 * (1 + m.cwiseAbs().maxCoeff() * xr.cwiseAbs().maxCoeff()))
+          << "round " << round << " error " << err;
+      // 1-3 working-set changes (adds, drops, side switches) between the solves
+      const int changes = 1 + round % 3;
+      for (int ch = 0; ch < changes; ++ch) {
+        int i = pick(rng);
+        if (ws[i] == ConstraintState::equality)
+          continue;
+        ws[i] =
+            ws[i] == ConstraintState::inactive
+                ? (coin(rng) == 0 ? ConstraintState::lower : ConstraintState::upper)
+                : (coin(rng) == 0 ? ConstraintState::inactive
+                                  : (ws[i] == ConstraintState::upper ? ConstraintState::lower
+                                                                     : ConstraintState::inactive));
+        arbor::test::NoAllocScope guard;
+        be.mark_changed(i);
+      }
+      {
+        arbor::test::NoAllocScope guard;
+        done = be.factorize(ws.data(), delta, w, wa);
+      }
+      ASSERT_GE(done, 0);
+    }
+  }
+}
+
+using Small = OcpQp<double, 5, 3, 2, 2, 1>;
+using NoInput = OcpQp<double, 4, 2, 0, 1, 0>;
+using Wide = OcpQp<double, 6, 4, 3, 0, 2>;
+template <typename Qp>
+using Default = arbor::qp::detail::OcpBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+template <typename Qp>
+using Reference =
+    arbor::qp::detail::OcpCholeskyBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+
+TEST(QpBackend, DefaultMatchesDenseThroughUpdates) {
+  check_backend<Small, Default<Small>>(100, 20);
+  check_backend<NoInput, Default<NoInput>>(200, 20);
+  check_backend<Wide, Default<Wide>>(300, 20);
+}
+
+TEST(QpBackend, ReferenceMatchesDenseThroughUpdates) {
+  check_backend<Small, Reference<Small>>(100, 20);
+  check_backend<Wide, Reference<Wide>>(300, 20);
+}
+
+/// The default backend really updates: a change in stage 0 must not refactorize the horizon.
+TEST(QpBackend, WorkingSetChangeIsAnUpdate) {
+  using Qp = Small;
+  static Qp qp;
+  static Default<Qp> be;
+  static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
+  std::mt19937 rng(7);
+  t::random_ocp(qp, rng, t::RandomOcpOptions{});
+  for (auto& s : ws)
+    s = ConstraintState::inactive;
+  Eigen::Matrix<double, Qp::na, 1> wa;
+  be.p = &qp;
+  be.row_norms_sq(wa);
+  for (int j = 0; j < Qp::na; ++j)
+    wa(j) = 1e6 / wa(j);
+  be.mark_all();
+  ASSERT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), Qp::horizon + 1);
+  ws[1] = ConstraintState::upper;  // a bound of x_0: added by an update
+  be.mark_changed(1);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 1);
+  ws[1] = ConstraintState::lower;  // side switch: M unchanged
+  be.mark_changed(1);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 0);
+}
+
+}  // namespace
