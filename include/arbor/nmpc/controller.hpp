@@ -1,12 +1,16 @@
 // arbor::nmpc: the NMPC controller: multiple shooting, SQP on the static QP (qp/), with
 //   - SCQP (HessianKind::gauss_newton, the paper's method): convex QPs from the outer functions'
 //     Hessians, no second derivatives of the dynamics;
-//   - exact-Hessian SQP (HessianKind::exact): the Lagrangian's Hessian from the expression layer,
-//     convexified per stage (ocp::convexify);
+//   - exact-Hessian SQP (HessianKind::exact): the Lagrangian's Hessian from the expression layer;
+//     when the QP solver finds it non-convex, every stage block is convexified (ocp::convexify:
+//     eigenvalues below settings().hessian_floor raised to it) and the QP solved again, so blocks
+//     that are indefinite while the QP is convex on the dynamics' null space keep Newton steps;
 //   - globalisation of full solves by backtracking on the L1 merit function
 //       M(w) = f(w) + nu (|defects|_1 + constraint and bound violations),
 //     Armijo on the directional derivative g'd - nu viol(w) (exact for the L1 merit when d solves
-//     the QP), nu >= 1.5 |lambda_QP|_inf, never decreased; full steps in real-time iteration;
+//     the QP), nu >= 1.5 |lambda_QP|_inf, never decreased; non-monotone: the decrease is measured
+//     from the largest merit of the last 4 accepted points (Grippo-Lampariello-Lucidi), so full
+//     steps near a solution survive the Maratos effect; full steps in real-time iteration;
 //   - real-time iteration: prepare() linearises around the current (shifted) plan before the
 //     state is measured; feedback(x0) embeds x0 (dx_0 = x0 - x_0), solves one QP, takes the full
 //     step and returns; control() is then u_0. shift() moves plan and multipliers one stage.
@@ -31,6 +35,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "arbor/core/config.hpp"
 #include "arbor/nmpc/kkt.hpp"
@@ -197,6 +202,9 @@ class Nmpc {
     if (!x0.allFinite() || !parameters_finite())
       return NmpcStatus::non_finite_input;
     x_[0] = x0;
+    if (x0 != last_x0_)
+      merit_count_ = 0;  // another problem: restart the merit history
+    last_x0_ = x0;
     for (int it = 0;; ++it) {
       const NmpcStatus lin = linearize();
       if (lin != NmpcStatus::prepared)
@@ -275,13 +283,13 @@ class Nmpc {
   /// non_finite_evaluation.
   [[nodiscard]] NmpcStatus linearize() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
+    constexpr Scalar no_floor = -inf;  // exact Hessians: convexified only if the QP needs it
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
       const VecN<Scalar, ng> lg = lam_a_.template segment<ng>(Qp::constraint_offset(k));
       const Vx ld = lam_a_.template segment<nx>(Qp::dynamics_offset(k));
-      ocp::linearize_path<H>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st,
-                             settings_.hessian_floor);
+      ocp::linearize_path<H>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st, no_floor);
       if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
           st.lg.hasNaN() || st.ug.hasNaN())  // (row bounds may be infinite)
         return NmpcStatus::non_finite_evaluation;
@@ -294,7 +302,7 @@ class Nmpc {
     }
     auto& t = qp_.terminal;
     const VecN<Scalar, ngn> lgn = lam_a_.template tail<ngn>();
-    ocp::linearize_terminal<H>(problem_, x_[N], p_[N], lgn, t, settings_.hessian_floor);
+    ocp::linearize_terminal<H>(problem_, x_[N], p_[N], lgn, t, no_floor);
     if (!qp::detail::all_finite(t.Q, t.q, t.C) || t.lg.hasNaN() || t.ug.hasNaN())
       return NmpcStatus::non_finite_evaluation;
     t.lbx = lbx_[N] - x_[N];
@@ -312,8 +320,9 @@ class Nmpc {
   /// with the current multipliers. Returns step_taken (the step is in the solver) or qp_failed.
   [[nodiscard]] NmpcStatus solve_qp() {
     qp::QpStatus st;
-    if (!qp_setup_) {
-      st = solver_.setup(qp_, settings_.qp);
+    if (!qp_setup_ || std::memcmp(&applied_qp_, &settings_.qp, sizeof applied_qp_) != 0) {
+      st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
+      applied_qp_ = settings_.qp;
       qp_setup_ = st == qp::QpStatus::accepted;
     } else {
       st = solver_.update(qp::Convexity::assumed);
@@ -325,6 +334,21 @@ class Nmpc {
     solver_.lam_x() = lam_x_;
     solver_.lam_a() = lam_a_;
     st = solver_.solve();
+    if constexpr (H == ocp::HessianKind::exact) {
+      if (st == qp::QpStatus::non_convex) {  // convexify every block and solve again
+        for (auto& stage : qp_.stage)
+          ocp::convexify_stage<nx, nu>(stage, settings_.hessian_floor);
+        ocp::convexify<Scalar, nx>(qp_.terminal.Q, settings_.hessian_floor);
+        info_.qp_iterations += solver_.info().iterations;
+        st = solver_.update(qp::Convexity::assumed);
+        if (st == qp::QpStatus::accepted) {
+          solver_.x().setZero();
+          solver_.lam_x() = lam_x_;
+          solver_.lam_a() = lam_a_;
+          st = solver_.solve();
+        }
+      }
+    }
     info_.qp_status = st;
     info_.qp_iterations += solver_.info().iterations;
     ++info_.iterations;
@@ -341,12 +365,22 @@ class Nmpc {
     const Scalar lam_max =
         std::fmax(solver_.lam_x().cwiseAbs().maxCoeff(),
                   solver_.lam_a().size() > 0 ? solver_.lam_a().cwiseAbs().maxCoeff() : Scalar(0));
-    penalty_ = std::fmax(penalty_, settings_.penalty_margin * lam_max);
+    if (settings_.penalty_margin * lam_max > penalty_) {
+      penalty_ = settings_.penalty_margin * lam_max;
+      merit_count_ = 0;  // merits of another penalty are not comparable
+    }
     info_.penalty = penalty_;
     if (info_.step_norm == Scalar(0))
       return take_step(Scalar(1));  // only the multipliers change
     const ocp::StageMerit<Scalar> m0 = merit_at(Scalar(0), x0);
-    const Scalar phi0 = m0.cost + penalty_ * m0.violation;
+    const Scalar phi_now = m0.cost + penalty_ * m0.violation;
+    // non-monotone reference (Grippo, Lampariello, Lucidi 1986): the largest merit of the last
+    // few accepted points, so that full steps survive the Maratos effect near a solution
+    Scalar phi0 = phi_now;
+    const int recent =
+        merit_count_ < int(recent_merit_.size()) ? merit_count_ : int(recent_merit_.size());
+    for (int i = 0; i < recent; ++i)
+      phi0 = std::fmax(phi0, recent_merit_[std::size_t(i)]);
     Scalar slope = directional_cost_derivative() - penalty_ * m0.violation;
     if (slope > Scalar(0))
       slope = Scalar(0);  // round-off: require plain decrease
@@ -355,10 +389,12 @@ class Nmpc {
       const ocp::StageMerit<Scalar> m = merit_at(alpha, x0);
       const Scalar phi = m.cost + penalty_ * m.violation;
       // sufficient decrease, up to the rounding noise of evaluating the merit
-      const Scalar noise = Scalar(16) * std::numeric_limits<Scalar>::epsilon() * std::fabs(phi0);
+      const Scalar noise = Scalar(16) * std::numeric_limits<Scalar>::epsilon() * std::fabs(phi_now);
       if (std::isfinite(phi) && phi <= phi0 + settings_.armijo * alpha * slope + noise) {
         info_.line_search_steps = i;
         info_.merit = phi;
+        recent_merit_[std::size_t(merit_count_ % int(recent_merit_.size()))] = phi;
+        ++merit_count_;
         return take_step(alpha);
       }
       alpha *= settings_.backtrack;
@@ -382,8 +418,8 @@ class Nmpc {
     info_.complementarity = r.complementarity;
   }
 
-  /// Stationarity is relative to the size of its terms, 1 + max(|grad f|_inf, |lambda|_inf) (as
-  /// the QP's tolerances are).
+  /// Stationarity and complementarity are relative to 1 + max(|grad f|_inf, |lambda|_inf) (as the
+  /// QP's tolerances are); the primal residual is absolute.
   bool converged() const {
     Scalar g = std::fmax(lam_x_.cwiseAbs().maxCoeff(), lam_a_.cwiseAbs().maxCoeff());
     for (const auto& st : qp_.stage)
@@ -391,7 +427,7 @@ class Nmpc {
     g = std::fmax(g, qp_.terminal.q.cwiseAbs().maxCoeff());
     return info_.stationarity <= settings_.tol_stationarity * (Scalar(1) + g) &&
            info_.primal_residual <= settings_.tol_primal &&
-           info_.complementarity <= settings_.tol_complementarity;
+           info_.complementarity <= settings_.tol_complementarity * (Scalar(1) + g);
   }
 
   /// Takes x += alpha dx, w += alpha dw, lambda += alpha (lambda_QP - lambda).
@@ -443,21 +479,25 @@ class Nmpc {
     return m;
   }
 
-  P problem_;                        ///< the OCP (expressions, default bounds)
-  Settings settings_;                ///< settings
-  std::array<Vx, N + 1> x_;          ///< planned states x_0..x_N
-  std::array<Vw, N> w_;              ///< planned inputs and slacks [u_k; s_k]
-  std::array<Vp, N + 1> p_;          ///< stage parameters
-  std::array<Vx, N + 1> lbx_, ubx_;  ///< state bounds per stage
-  std::array<Vu, N> lbu_, ubu_;      ///< input bounds per stage
-  VecN<Scalar, Qp::nv> lam_x_;       ///< multipliers of the variable bounds (flat)
-  VecN<Scalar, Qp::na> lam_a_;       ///< multipliers of the QP rows (flat)
-  Qp qp_;                            ///< the QP of the current linearisation
-  QpSolver solver_;                  ///< its solver (points to qp_)
-  Info info_{};                      ///< figures of the last call
-  Scalar penalty_ = 0;               ///< L1 merit penalty nu
-  bool prepared_ = false;            ///< prepare() succeeded, feedback() not yet run
-  bool qp_setup_ = false;            ///< solver_.setup(qp_) was accepted once
+  P problem_;                             ///< the OCP (expressions, default bounds)
+  Settings settings_;                     ///< settings
+  std::array<Vx, N + 1> x_;               ///< planned states x_0..x_N
+  std::array<Vw, N> w_;                   ///< planned inputs and slacks [u_k; s_k]
+  std::array<Vp, N + 1> p_;               ///< stage parameters
+  std::array<Vx, N + 1> lbx_, ubx_;       ///< state bounds per stage
+  std::array<Vu, N> lbu_, ubu_;           ///< input bounds per stage
+  VecN<Scalar, Qp::nv> lam_x_;            ///< multipliers of the variable bounds (flat)
+  VecN<Scalar, Qp::na> lam_a_;            ///< multipliers of the QP rows (flat)
+  Qp qp_;                                 ///< the QP of the current linearisation
+  QpSolver solver_;                       ///< its solver (points to qp_)
+  Info info_{};                           ///< figures of the last call
+  Scalar penalty_ = 0;                    ///< L1 merit penalty nu
+  bool prepared_ = false;                 ///< prepare() succeeded, feedback() not yet run
+  bool qp_setup_ = false;                 ///< solver_.setup(qp_) was accepted once
+  qp::QpSettings<Scalar> applied_qp_{};   ///< the QP settings the solver runs with
+  std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
+  int merit_count_ = 0;                   ///< accepted points in the merit history
+  Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
 };
 
 }  // namespace arbor::nmpc

@@ -16,8 +16,9 @@ struct NmpcSettings {
   /// |grad L|_inf <= tol_stationarity (1 + max(|grad f|_inf, |lambda|_inf)) (relative, as the
   /// QP's tolerances)
   Scalar tol_stationarity = Scalar(single ? 1e-3 : 1e-8);
-  Scalar tol_primal = Scalar(single ? 1e-4 : 1e-8);           ///< defects, bounds, constraints
-  Scalar tol_complementarity = Scalar(single ? 1e-3 : 1e-8);  ///< |lambda * gap|
+  Scalar tol_primal = Scalar(single ? 1e-4 : 1e-8);  ///< defects, bounds, constraints
+  /// |lambda * gap| <= tol_complementarity (1 + max(|grad f|_inf, |lambda|_inf))
+  Scalar tol_complementarity = Scalar(single ? 1e-3 : 1e-8);
   bool line_search = true;              ///< solve(): L1-merit backtracking (false: full steps)
   int max_line_search = 30;             ///< backtracking steps before line_search_failed
   Scalar armijo = Scalar(1e-4);         ///< sufficient-decrease fraction eta

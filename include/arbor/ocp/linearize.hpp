@@ -8,8 +8,9 @@
 //                exact: the Hessian of the stage Lagrangian in (x, u) from the expression layer
 //                (nested duals), then made convex (see convexify below)
 //   constraints  rows in the order of the terms: a hard constraint g gives lg - g <= J d <= ug - g;
-//                a soft one gives a lower row J d + ds >= lg - g and an upper row J d - ds <=
-//                ug - g; a convex constraint gives grad psi' J_c d (- ds) <= -psi(c)
+//                a soft one with slack s gives a lower row J d + ds >= lg - g - s and an upper row
+//                J d - ds <= ug - g + s; a convex constraint gives grad psi' J_c d <= -psi(c)
+//                (soft: grad psi' J_c d - ds <= -psi(c) + s)
 // Variable bounds and the embedding of x_0 are the solver's (nmpc/): they change without
 // relinearising. Multipliers follow the QP's sign convention (qp/problem.hpp): the stage
 // Lagrangian is f + lam_dyn' (x_{k+1} - F) + mu' g.
@@ -21,6 +22,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <cstddef>
+#include <limits>
 #include <tuple>
 #include <type_traits>
 
@@ -149,6 +151,22 @@ void convexify(MatN<T, n>& H, T floor) {
     H = sym;
 }
 
+/// Convexifies the (x, u) Hessian block [Q S'; S R] of a QP stage in place (the slack part of R,
+/// diagonal and nonnegative, is left alone).
+template <int nx, int nu, class Stage, class T>
+void convexify_stage(Stage& st, T floor) {
+  constexpr int n = nx + nu;
+  MatN<T, n> h;
+  h.template topLeftCorner<nx, nx>() = st.Q;
+  h.template bottomLeftCorner<nu, nx>() = st.S.template topRows<nu>();
+  h.template topRightCorner<nx, nu>() = st.S.template topRows<nu>().transpose();
+  h.template bottomRightCorner<nu, nu>() = st.R.template topLeftCorner<nu, nu>();
+  convexify<T, n>(h, floor);
+  st.Q = h.template topLeftCorner<nx, nx>();
+  st.S.template topRows<nu>() = h.template bottomLeftCorner<nu, nx>();
+  st.R.template topLeftCorner<nu, nu>() = h.template bottomRightCorner<nu, nu>();
+}
+
 /// Linearises path stage (x, w = [u; s], p; successor x_next) into the QP stage `st` (every
 /// member but the variable bounds lbx, ubx, lbu, ubu). lam_dyn and lam_g are the multipliers of
 /// the stage's dynamics and QP rows (used by the Gauss-Newton term of convex constraints and by
@@ -219,6 +237,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       }
       if constexpr (C::soft) {
         st.D(row, nu + slack) = T(-1);
+        st.ug[row] += w[nu + slack];  // psi + grad psi' J d - (s + ds) <= 0
         ++slack;
       }
       ++row;
@@ -238,11 +257,12 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       for (int i = 0; i < m; ++i) {
         const T lo = T(c.lg[std::size_t(i)]) - gv[i], hi = T(c.ug[std::size_t(i)]) - gv[i];
         if constexpr (C::soft) {
-          st.lg[row + i] = lo;  // lower row: J d + ds >= lg - g
+          const T si = w[nu + slack + i];  // the current slack
+          st.lg[row + i] = lo - si;        // lower row: J d + ds >= lg - g - s
           st.ug[row + i] = inf;
           st.D(row + i, nu + slack + i) = T(1);
-          st.lg[row + m + i] = -inf;  // upper row: J d - ds <= ug - g
-          st.ug[row + m + i] = hi;
+          st.lg[row + m + i] = -inf;  // upper row: J d - ds <= ug - g + s
+          st.ug[row + m + i] = hi + si;
           st.D(row + m + i, nu + slack + i) = T(-1);
           mu[nl + i] = lam_g[row + i] + lam_g[row + m + i];
         } else {
@@ -273,7 +293,8 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     const auto L =
         detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
     hess = ad::hessian<0, 1>(L, x, u, p, lam_dyn, mu);
-    convexify<T, n>(hess, floor);
+    if (floor > -std::numeric_limits<T>::infinity())
+      convexify<T, n>(hess, floor);
   }
   st.Q = hess.template topLeftCorner<nx, nx>();
   st.S.template topRows<nu>() = hess.template bottomLeftCorner<nu, nx>();
@@ -342,7 +363,8 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     const auto L = detail::lagrangian<nx, P::nmn>(prob.terminal_costs, prob.terminal_constraints,
                                                   static_cast<const void*>(nullptr));
     t.Q = ad::hessian<0>(L, x, u0, p, VecN<T, nx>::Zero().eval(), mu);
-    convexify<T, nx>(t.Q, floor);
+    if (floor > -std::numeric_limits<T>::infinity())
+      convexify<T, nx>(t.Q, floor);
   }
 }
 
