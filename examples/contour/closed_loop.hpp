@@ -1,0 +1,198 @@
+// The closed loop of the contour example: the NMPC (controller scalar Scalar, formulation F,
+// RBD derivative provider Tag, hard or Soft tunnel) against the plant of plant.hpp.
+//
+//   ContourLoop<F, Tag, Soft, Scalar> loop(options);   // big: give it static storage
+//   loop.start();                 // plant at x0, first OCP solved to convergence (warm start)
+//   while (!loop.done()) loop.sample();                // one 0.02 s sample, see sample()
+//
+// Real-time iteration (default), per sample: the plant runs the current control u_0 for h;
+// shift(); prepare() (linearisation around the shifted plan: before the measurement); the state
+// is measured (optionally with noise); feedback(x) solves one QP and gives the next u_0. SQP mode
+// (the paper's): shift(), then solve(x) with at most sqp_iter iterations and the tolerances of
+// CONTOUR.md. The controller's calls allocate nothing; the logging does not run inside them.
+#pragma once
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <type_traits>
+
+#include "arbor/nmpc/controller.hpp"
+#include "plant.hpp"
+#include "task.hpp"
+
+namespace contour {
+
+/// Run options (every one is a command-line option of the example).
+struct Options {
+  double c = 0.2;          ///< sd_ref scale
+  int max_samples = 4000;  ///< stop after this many samples
+  double s_end = 0.99;     ///< stop when s exceeds this
+  bool sqp = false;        ///< paper's mode (full SQP, at most sqp_iter iterations) instead of RTI
+  int sqp_iter = 5;        ///< SQP iterations per sample (sqp mode)
+  bool mismatch = false;   ///< plant with a 0.5 kg payload at the end effector
+  double noise = 0;        ///< std. dev. of the measurement noise on q [rad] (qd: 10x)
+  std::uint32_t seed = 1;  ///< noise seed
+  double soft_weight = 100;  ///< slack weight of the soft tunnel (soft builds)
+};
+
+/// What one sample records (plant state after the sample, the control computed from it).
+struct Record {
+  double t = 0;                            ///< time at the end of the sample [s]
+  VecN<double, nx> x;                      ///< plant state (measured without noise)
+  VecN<double, 3> p, p_ref;                ///< end-effector position and its reference at s
+  double e_p = 0, e_R = 0;                 ///< |p - p_ref(s)|, |e_R|
+  double sd_ref = 0;                       ///< sd_ref(s)
+  VecN<double, nq> tau;                    ///< max |tau| applied during the sample (signed: last)
+  VecN<double, nq> tau_peak;               ///< max |tau_i| over the sample's substeps
+  VecN<double, nu> u;                      ///< the control computed at the end of the sample
+  double prepare_us = 0, feedback_us = 0;  ///< controller time (SQP mode: solve in feedback)
+  int sqp_iterations = 0, qp_iterations = 0;
+  arbor::nmpc::NmpcStatus status = arbor::nmpc::NmpcStatus::step_taken;
+};
+
+template <Formulation F, class Tag, bool Soft, class Scalar = double>
+class ContourLoop {
+ public:
+  using W = Workspace<Tag, Scalar>;
+  using Problem = decltype(make_problem<F, Tag, Soft>(std::declval<W&>(), Reference{}));
+  using Controller = arbor::nmpc::Nmpc<Problem, Scalar>;
+  using PlantModel = Plant<Robot>;
+  using PayloadPlant = Plant<PayloadRobot>;
+  static constexpr Formulation formulation = F;
+  static constexpr bool soft = Soft;
+
+  explicit ContourLoop(const Options& o)
+      : options_(o),
+        ref_(make_reference(o.c)),
+        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight)),
+        ctrl_(problem_),
+        rng_(o.seed) {}
+  ContourLoop(const ContourLoop&) = delete;
+  ContourLoop& operator=(const ContourLoop&) = delete;
+
+  /// Plant at x0; the first OCP solved to convergence from a gravity-compensating guess.
+  arbor::nmpc::NmpcStatus start() {
+    VecN<double, nx> x0 = VecN<double, nx>::Zero();
+    x0.head<nq>() = initial_q();
+    nominal_.x = x0;
+    payload_.x = x0;
+    t_ = 0;
+    samples_ = 0;
+    for (int k = 0; k <= horizon; ++k) {
+      typename Controller::Vp p;
+      p[0] = Scalar(k == 0 ? 0 : 1);  // the tunnel is not imposed on the measured x_0
+      ctrl_.set_parameter(k, p);
+    }
+    VecN<double, nu> u0 = VecN<double, nu>::Zero();
+    if constexpr (F == Formulation::fd)  // gravity compensation at q0
+      u0.head<nq>() = arbor::rnea<Robot>(nominal_.nominal, initial_q(), VecN<double, nq>::Zero(),
+                                         VecN<double, nq>::Zero());
+    auto st = ctrl_.set_initial_guess(x0.cast<Scalar>(), u0.cast<Scalar>());
+    if (st != arbor::nmpc::NmpcStatus::prepared)
+      return st;
+    auto& set = ctrl_.settings();
+    const auto keep = set;
+    set.max_iter = 100;
+    st = ctrl_.solve(x0.cast<Scalar>());
+    set = keep;
+    if (options_.sqp) {
+      // CONTOUR.md: primal 1e-3, dual 1e-1, at most 3 line-search steps; QP 1e-3 / 1e-1
+      set.max_iter = options_.sqp_iter;
+      set.tol_primal = Scalar(1e-3);
+      set.tol_stationarity = Scalar(1e-1);
+      set.tol_complementarity = Scalar(1e-1);
+      set.max_line_search = 3;
+      set.qp.tol_primal = Scalar(1e-3);
+      set.qp.tol_dual = Scalar(1e-1);
+    }
+    start_status_ = st;
+    start_iterations_ = ctrl_.info().iterations;
+    return st;
+  }
+
+  /// One sample (see the top of this file); fills rec.
+  void sample(Record& rec) {
+    using clock = std::chrono::steady_clock;
+    const VecN<double, nu> u = ctrl_.control().template cast<double>();
+    if (options_.mismatch)
+      payload_.step(F, u);
+    else
+      nominal_.step(F, u);
+    ++samples_;
+    t_ += h;
+    const auto& pl = plant_x();
+    VecN<double, nx> meas = pl;
+    if (options_.noise > 0) {
+      std::normal_distribution<double> n(0.0, options_.noise);
+      for (int i = 0; i < nq; ++i) {
+        meas[i] += n(rng_);
+        meas[nq + i] += 10 * n(rng_);
+      }
+    }
+    namespace nm = arbor::nmpc;
+    nm::NmpcStatus st;
+    double prep = 0, fb = 0;
+    ctrl_.shift();
+    if (!options_.sqp) {
+      const auto t0 = clock::now();
+      st = ctrl_.prepare();
+      const auto t1 = clock::now();
+      if (st == nm::NmpcStatus::prepared)
+        st = ctrl_.feedback(meas.cast<Scalar>());
+      const auto t2 = clock::now();
+      prep = std::chrono::duration<double, std::micro>(t1 - t0).count();
+      fb = std::chrono::duration<double, std::micro>(t2 - t1).count();
+    } else {
+      const auto t0 = clock::now();
+      st = ctrl_.solve(meas.cast<Scalar>());
+      const auto t1 = clock::now();
+      fb = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    }
+    rec.t = t_;
+    rec.x = pl;
+    rec.p = options_.mismatch ? payload_.ee_position() : nominal_.ee_position();
+    rec.p_ref = p_ref(ref_, pl[14]);
+    rec.e_p = (rec.p - rec.p_ref).norm();
+    rec.e_R =
+        (options_.mismatch ? payload_.rotation_error(ref_) : nominal_.rotation_error(ref_)).norm();
+    rec.sd_ref = sd_ref(ref_.c, pl[14]);
+    rec.tau = options_.mismatch ? payload_.tau_applied : nominal_.tau_applied;
+    rec.tau_peak = options_.mismatch ? payload_.tau_peak : nominal_.tau_peak;
+    rec.u = ctrl_.control().template cast<double>();
+    rec.prepare_us = prep;
+    rec.feedback_us = fb;
+    rec.sqp_iterations = ctrl_.info().iterations;
+    rec.qp_iterations = ctrl_.info().qp_iterations;
+    rec.status = st;
+  }
+
+  /// s reached s_end or the sample budget is spent.
+  bool done() const { return plant_x()[14] > options_.s_end || samples_ >= options_.max_samples; }
+
+  const VecN<double, nx>& plant_x() const { return options_.mismatch ? payload_.x : nominal_.x; }
+  Controller& controller() { return ctrl_; }
+  const Reference& reference() const { return ref_; }
+  const Options& options() const { return options_; }
+  arbor::nmpc::NmpcStatus start_status() const { return start_status_; }
+  int start_iterations() const { return start_iterations_; }
+  int samples() const { return samples_; }
+
+ private:
+  Options options_;
+  Reference ref_;
+  W ws_{};  // declared before problem_: the problem's handles point here
+  Problem problem_;
+  Controller ctrl_;
+  PlantModel nominal_;
+  PayloadPlant payload_;
+  std::mt19937 rng_;
+  double t_ = 0;
+  int samples_ = 0;
+  arbor::nmpc::NmpcStatus start_status_ = arbor::nmpc::NmpcStatus::not_prepared;
+  int start_iterations_ = 0;
+};
+
+}  // namespace contour

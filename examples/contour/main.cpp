@@ -1,0 +1,248 @@
+// Contour-following NMPC of the Kinova Gen3 in closed loop (the paper's section 5.2; the task is
+// ../../shared/CONTOUR.md, summarised in README.md here). One executable per compile-time
+// configuration (CMake targets contour, contour_fd_ad, contour_id, contour_id_ad, contour_fd_soft):
+//   CONTOUR_ID        0: OCP-FD (u = [tau, sdd]), 1: OCP-ID (u = [qdd, sdd])
+//   CONTOUR_AUTODIFF  0: analytical RBD derivatives, 1: AD through the RBD templates
+//   CONTOUR_SOFT      0: hard tunnel, 1: soft tunnel (exact-penalty slack)
+// Prints progress, a summary table, and writes a CSV log (plot it with plot.py). `--help`.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "closed_loop.hpp"
+
+#ifndef CONTOUR_ID
+#define CONTOUR_ID 0
+#endif
+#ifndef CONTOUR_AUTODIFF
+#define CONTOUR_AUTODIFF 0
+#endif
+#ifndef CONTOUR_SOFT
+#define CONTOUR_SOFT 0
+#endif
+
+namespace {
+
+using namespace contour;
+constexpr Formulation kForm = CONTOUR_ID ? Formulation::id : Formulation::fd;
+using Tag = std::conditional_t<CONTOUR_AUTODIFF != 0, arbor::ad::AutoDiff, arbor::ad::Analytical>;
+constexpr bool kSoft = CONTOUR_SOFT != 0;
+constexpr const char* kTagName = CONTOUR_AUTODIFF ? "AutoDiff" : "Analytical";
+using Loop = ContourLoop<kForm, Tag, kSoft, double>;
+
+void usage(const char* argv0) {
+  std::printf(
+      "usage: %s [options]\n"
+      "Closed-loop contour following on the Kinova Gen3: %s, %s RBD derivatives, %s tunnel\n"
+      "(compile-time choices; other executables: contour, contour_fd_ad, contour_id,\n"
+      "contour_id_ad, contour_fd_soft).\n"
+      "  --csv FILE        write the per-sample log (default contour.csv; '-' for none)\n"
+      "  --c C             progress-speed scale of sd_ref (default 0.2; the task code: 0.025, "
+      "0.2)\n"
+      "  --samples N       at most N samples of 0.02 s (default 4000)\n"
+      "  --s-end S         stop when s > S (default 0.99)\n"
+      "  --sqp [K]         paper's mode: full SQP per sample, at most K iterations (default 5)\n"
+      "                    and CONTOUR.md's tolerances (default: real-time iteration)\n"
+      "  --mismatch        plant carries 0.5 kg at the end effector (controller: nominal model)\n"
+      "  --noise SIGMA     measurement noise std. dev. on q [rad] (qd: 10 SIGMA), default 0\n"
+      "  --seed N          noise seed (default 1)\n"
+      "  --soft-weight W   slack weight of the soft tunnel (soft builds; default 100)\n"
+      "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
+      "  --help            this text\n",
+      argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard");
+}
+
+/// Quantile q of v (nearest rank; v is copied).
+double quantile(std::vector<double> v, double q) {
+  if (v.empty())
+    return 0;
+  std::sort(v.begin(), v.end());
+  const auto i = std::size_t(std::ceil(q * double(v.size()))) - (q > 0 ? 1 : 0);
+  return v[std::min(i, v.size() - 1)];
+}
+
+void write_csv(const char* path, const std::vector<Record>& log) {
+  FILE* f = std::fopen(path, "w");
+  if (!f) {
+    std::fprintf(stderr, "cannot write %s\n", path);
+    return;
+  }
+  std::fprintf(f, "t,s,sd,sd_ref,px,py,pz,px_ref,py_ref,pz_ref,e_p,e_R");
+  for (const char* name : {"q", "qd", "tau", "tau_peak"})
+    for (int i = 1; i <= nq; ++i)
+      std::fprintf(f, ",%s%d", name, i);
+  for (int i = 1; i <= nu; ++i)
+    std::fprintf(f, ",u%d", i);
+  std::fprintf(f, ",prepare_us,feedback_us,sqp_iterations,qp_iterations,status\n");
+  for (const Record& r : log) {
+    std::fprintf(f, "%.4f,%.9g,%.9g,%.9g", r.t, r.x[14], r.x[15], r.sd_ref);
+    for (int i = 0; i < 3; ++i)
+      std::fprintf(f, ",%.9g", r.p[i]);
+    for (int i = 0; i < 3; ++i)
+      std::fprintf(f, ",%.9g", r.p_ref[i]);
+    std::fprintf(f, ",%.6g,%.6g", r.e_p, r.e_R);
+    for (int i = 0; i < 2 * nq; ++i)
+      std::fprintf(f, ",%.9g", r.x[i]);
+    for (int i = 0; i < nq; ++i)
+      std::fprintf(f, ",%.6g", r.tau[i]);
+    for (int i = 0; i < nq; ++i)
+      std::fprintf(f, ",%.6g", r.tau_peak[i]);
+    for (int i = 0; i < nu; ++i)
+      std::fprintf(f, ",%.6g", r.u[i]);
+    std::fprintf(f, ",%.2f,%.2f,%d,%d,%s\n", r.prepare_us, r.feedback_us, r.sqp_iterations,
+                 r.qp_iterations, arbor::nmpc::to_string(r.status));
+  }
+  std::fclose(f);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  std::string csv = "contour.csv";
+  int progress = 50;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](const char* what) -> const char* {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "%s needs %s\n", a.c_str(), what);
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      usage(argv[0]);
+      return 0;
+    } else if (a == "--csv") {
+      csv = value("a file name");
+    } else if (a == "--c") {
+      o.c = std::atof(value("a number"));
+    } else if (a == "--samples") {
+      o.max_samples = std::atoi(value("a number"));
+    } else if (a == "--s-end") {
+      o.s_end = std::atof(value("a number"));
+    } else if (a == "--sqp") {
+      o.sqp = true;
+      if (i + 1 < argc && argv[i + 1][0] != '-')
+        o.sqp_iter = std::atoi(argv[++i]);
+    } else if (a == "--mismatch") {
+      o.mismatch = true;
+    } else if (a == "--noise") {
+      o.noise = std::atof(value("a number"));
+    } else if (a == "--seed") {
+      o.seed = std::uint32_t(std::atol(value("a number")));
+    } else if (a == "--soft-weight") {
+      o.soft_weight = std::atof(value("a number"));
+    } else if (a == "--progress") {
+      progress = std::atoi(value("a number"));
+    } else {
+      std::fprintf(stderr, "unknown option %s (see --help)\n", a.c_str());
+      return 2;
+    }
+  }
+
+  static Loop loop(o);  // the controller is large: static storage
+  std::printf(
+      "Kinova Gen3 contour following: %s, %s RBD derivatives, %s tunnel (rho = %g m), "
+      "N = %d, h = %g s, %s\n",
+      to_string(kForm), kTagName, kSoft ? "soft" : "hard", rho, horizon, h,
+      o.sqp ? "SQP mode" : "real-time iteration");
+  std::printf("sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, plant: %s%s\n",
+              sizeof(Loop::Controller), sizeof(Loop::W), o.c,
+              o.mismatch ? "+0.5 kg payload" : "nominal model",
+              o.noise > 0 ? ", measurement noise" : "");
+  const auto st0 = loop.start();
+  std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
+              loop.start_iterations());
+
+  std::vector<Record> log;
+  log.reserve(std::size_t(o.max_samples));
+  int failures = 0;
+  while (!loop.done()) {
+    Record r;
+    loop.sample(r);
+    if (!arbor::nmpc::succeeded(r.status) && r.status != arbor::nmpc::NmpcStatus::iteration_limit)
+      ++failures;
+    log.push_back(r);
+    if (progress > 0 && (loop.samples() % progress == 0 || loop.done()))
+      std::printf("  sample %5d  t %6.2f s  s %.4f  sd %.4f  |e_p| %.2f mm  step %6.0f us\n",
+                  loop.samples(), r.t, r.x[14], r.x[15], 1e3 * r.e_p, r.prepare_us + r.feedback_us);
+    if (!std::isfinite(r.x.sum())) {
+      std::printf("plant state not finite: stop\n");
+      break;
+    }
+  }
+
+  // ---- summary ----------------------------------------------------------------------------------
+  std::vector<double> prep, fb, step, sqp_it, qp_it, ep;
+  double e_max = 0, e_sq = 0, eR_max = 0, qd_ratio = 0, q_ratio = 0;
+  VecN<double, nq> tau_peak = VecN<double, nq>::Zero();
+  int outside = 0;
+  for (const Record& r : log) {
+    prep.push_back(r.prepare_us);
+    fb.push_back(r.feedback_us);
+    step.push_back(r.prepare_us + r.feedback_us);
+    sqp_it.push_back(r.sqp_iterations);
+    qp_it.push_back(r.qp_iterations);
+    e_max = std::max(e_max, r.e_p);
+    eR_max = std::max(eR_max, r.e_R);
+    e_sq += r.e_p * r.e_p;
+    outside += r.e_p > rho ? 1 : 0;
+    tau_peak = tau_peak.cwiseMax(r.tau_peak);
+    for (int i = 0; i < nq; ++i) {
+      qd_ratio = std::max(qd_ratio, std::fabs(r.x[nq + i]) / qd_max);
+      if (std::isfinite(q_max[std::size_t(i)]))
+        q_ratio = std::max(q_ratio, std::fabs(r.x[i]) / q_max[std::size_t(i)]);
+    }
+  }
+  double tau_ratio = 0;
+  int tau_worst = 0;
+  for (int i = 0; i < nq; ++i) {
+    const double rr = tau_peak[i] / tau_max[std::size_t(i)];
+    if (rr > tau_ratio) {
+      tau_ratio = rr;
+      tau_worst = i;
+    }
+  }
+  const std::size_t n = log.size();
+  const double rms = n ? std::sqrt(e_sq / double(n)) : 0.0;
+  const double s_final = n ? log.back().x[14] : 0.0;
+  std::printf("\nsummary (%s, %s, %s tunnel, %s)\n", to_string(kForm), kTagName,
+              kSoft ? "soft" : "hard", o.sqp ? "SQP mode" : "RTI");
+  std::printf("  %-34s %10s %10s %10s\n", "", "median", "p95", "max");
+  auto row = [](const char* name, const std::vector<double>& v, const char* fmt) {
+    std::printf("  %-34s ", name);
+    for (double q : {0.5, 0.95, 1.0})
+      std::printf(fmt, quantile(v, q));
+    std::printf("\n");
+  };
+  row("SQP iterations per sample", sqp_it, "%10.0f ");
+  row("QP iterations per sample", qp_it, "%10.0f ");
+  if (!o.sqp) {
+    row("preparation [us]", prep, "%10.1f ");
+    row("feedback [us]", fb, "%10.1f ");
+  }
+  row(o.sqp ? "SQP solve per sample [us]" : "preparation + feedback [us]", step, "%10.1f ");
+  std::printf("  %-34s %10zu (%.2f s)\n", "samples", n, n * h);
+  std::printf("  %-34s %10.3f mm (rho = %.1f mm; %d samples outside)\n", "tunnel error max",
+              1e3 * e_max, 1e3 * rho, outside);
+  std::printf("  %-34s %10.3f mm\n", "tunnel error RMS", 1e3 * rms);
+  std::printf("  %-34s %10.4f rad\n", "rotation error max |e_R|", eR_max);
+  std::printf("  %-34s %10.3f of the limit (joint %d: %.2f of %.0f N m)\n", "max |tau|", tau_ratio,
+              tau_worst + 1, tau_peak[tau_worst], tau_max[std::size_t(tau_worst)]);
+  std::printf("  %-34s %10.3f of the limit (%.4f rad/s)\n", "max |qd|", qd_ratio, qd_max);
+  std::printf("  %-34s %10.3f of the limit\n", "max |q_i| / q_max (q2, q4, q6)", q_ratio);
+  std::printf("  %-34s %10.4f (%s)\n", "final s", s_final,
+              s_final > o.s_end ? "reached" : "NOT reached");
+  std::printf("  %-34s %10d\n", "controller failures", failures);
+  if (csv != "-") {
+    write_csv(csv.c_str(), log);
+    std::printf("log: %s\n", csv.c_str());
+  }
+  const bool ok = s_final > o.s_end && failures == 0 && tau_ratio <= 1 + 1e-9;
+  return ok ? 0 : 1;
+}

@@ -1,0 +1,131 @@
+// The simulated plant of the contour example: the Gen3 integrated with arbor's own forward
+// dynamics (aba) by RK4 at 1 ms, 20 substeps per 0.02 s sample, applying the controller's first
+// input; s and sd (virtual states) integrate the applied sdd exactly.
+//   OCP-FD: the torque tau of u_0 is held over the sample.
+//   OCP-ID: an inner 1 kHz computed-torque loop: at each 1 ms substep tau = rnea(q, qd, qdd_cmd)
+//           on the controller's (nominal) model, held over the substep; the plant moves with its
+//           own model, so with a model mismatch the acceleration differs from the command.
+// Model mismatch (option): the plant's bracelet link carries a point mass at the end-effector
+// frame (PayloadRobot); the controller keeps the nominal model.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstddef>
+
+#include "arbor/dynamics/aba.hpp"
+#include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/rnea.hpp"
+#include "task.hpp"
+
+namespace contour {
+
+namespace detail {
+/// The inertia of body b of R with a point mass m at point c (body frame) added.
+constexpr arbor::model::Inertia with_point_mass(const arbor::model::Inertia& in, double m,
+                                                const double (&c)[3]) {
+  arbor::model::Inertia out = in;
+  const double M = in.mass + m;
+  double com[3]{};
+  for (int i = 0; i < 3; ++i)
+    com[i] = (in.mass * in.com[i] + m * c[i]) / M;
+  // parallel-axis terms of both parts about the new centre of mass
+  const auto add = [&out](double mass, const double(&d)[3]) {
+    const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        out.I[i][j] += mass * ((i == j ? dd : 0.0) - d[i] * d[j]);
+  };
+  const double d1[3]{in.com[0] - com[0], in.com[1] - com[1], in.com[2] - com[2]};
+  const double d2[3]{c[0] - com[0], c[1] - com[1], c[2] - com[2]};
+  add(in.mass, d1);
+  add(m, d2);
+  out.mass = M;
+  for (int i = 0; i < 3; ++i)
+    out.com[i] = com[i];
+  return out;
+}
+}  // namespace detail
+
+/// The Gen3 with a 0.5 kg point mass at the end-effector frame (on the bracelet link's body).
+struct PayloadRobot : Robot {
+  static constexpr double payload = 0.5;  ///< [kg]
+  static constexpr std::array<arbor::model::Inertia, nb> body_inertia = [] {
+    std::array<arbor::model::Inertia, nb> b = Robot::body_inertia;
+    constexpr auto& f = Robot::frames[std::size_t(ee_frame)];
+    const double c[3]{f.placement.p[0], f.placement.p[1], f.placement.p[2]};
+    b[std::size_t(f.body)] = detail::with_point_mass(b[std::size_t(f.body)], payload, c);
+    return b;
+  }();
+};
+
+/// The plant: state [q, qd, s, sd], model PR (Robot or PayloadRobot).
+template <class PR>
+struct Plant {
+  using Vx = VecN<double, nx>;
+  using Vq = VecN<double, nq>;
+  static constexpr int substeps = 20;
+  static constexpr double dt = h / substeps;  // 1 ms
+
+  Vx x = Vx::Zero();
+  arbor::Data<PR, double> d;           ///< the plant's dynamics workspace
+  arbor::Data<Robot, double> nominal;  ///< the nominal model (computed torque of OCP-ID)
+  Vq tau_applied = Vq::Zero();         ///< the torque of the last substep
+  Vq tau_peak = Vq::Zero();            ///< max |tau| over the last sample's substeps
+
+  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id).
+  void step(Formulation form, const VecN<double, nu>& u) {
+    tau_peak.setZero();
+    for (int k = 0; k < substeps; ++k) {
+      Vq tau;
+      if (form == Formulation::fd) {
+        tau = u.head<nq>();
+      } else {
+        tau =
+            arbor::rnea<Robot>(nominal, Vq(x.head<nq>()), Vq(x.segment<nq>(nq)), Vq(u.head<nq>()));
+      }
+      tau_applied = tau;
+      tau_peak = tau_peak.cwiseMax(tau.cwiseAbs());
+      rk4(tau);
+    }
+    // s, sd: sdd constant over the sample (exact)
+    const double sdd = u[7];
+    x[14] += h * x[15] + 0.5 * h * h * sdd;
+    x[15] += h * sdd;
+  }
+
+  /// End-effector position at the plant's q.
+  VecN<double, 3> ee_position() {
+    arbor::forward_kinematics<PR>(d, Vq(x.head<nq>()));
+    return arbor::frame_placement<PR>(d, ee_frame).p;
+  }
+  /// End-effector rotation error against the reference.
+  VecN<double, 3> rotation_error(const Reference& ref) {
+    arbor::forward_kinematics<PR>(d, Vq(x.head<nq>()));
+    const auto& M = arbor::frame_placement<PR>(d, ee_frame);
+    VecN<double, 12> pose;
+    pose.head<3>() = M.p;
+    for (int c = 0; c < 3; ++c)
+      pose.segment<3>(3 + 3 * c) = M.R.col(c);
+    return contour::rotation_error<double>(ref, pose);
+  }
+
+ private:
+  VecN<double, 2 * nq> f(const VecN<double, 2 * nq>& y, const Vq& tau) {
+    VecN<double, 2 * nq> r;
+    r.head<nq>() = y.tail<nq>();
+    r.tail<nq>() = arbor::aba<PR>(d, Vq(y.head<nq>()), Vq(y.tail<nq>()), tau);
+    return r;
+  }
+  void rk4(const Vq& tau) {
+    const VecN<double, 2 * nq> y = x.head<2 * nq>();
+    const auto k1 = f(y, tau);
+    const auto k2 = f(y + 0.5 * dt * k1, tau);
+    const auto k3 = f(y + 0.5 * dt * k2, tau);
+    const auto k4 = f(y + dt * k3, tau);
+    x.head<2 * nq>() = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+};
+
+}  // namespace contour
