@@ -36,6 +36,8 @@ struct Options {
   double noise = 0;        ///< std. dev. of the measurement noise on q [rad] (qd: 10x)
   std::uint32_t seed = 1;  ///< noise seed
   double soft_weight = 100;  ///< slack weight of the soft tunnel (soft builds)
+  double backoff = 1e-4;     ///< the controller's tunnel is rho - backoff [m]
+  int qp_max_iter = 0;       ///< QP active-set iterations per QP (0: the library's default)
 };
 
 /// What one sample records (plant state after the sample, the control computed from it).
@@ -51,6 +53,7 @@ struct Record {
   double prepare_us = 0, feedback_us = 0;  ///< controller time (SQP mode: solve in feedback)
   int sqp_iterations = 0, qp_iterations = 0;
   arbor::nmpc::NmpcStatus status = arbor::nmpc::NmpcStatus::step_taken;
+  arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
 };
 
 template <Formulation F, class Tag, bool Soft, class Scalar = double>
@@ -67,7 +70,7 @@ class ContourLoop {
   explicit ContourLoop(const Options& o)
       : options_(o),
         ref_(make_reference(o.c)),
-        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight)),
+        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - o.backoff)),
         ctrl_(problem_),
         rng_(o.seed) {}
   ContourLoop(const ContourLoop&) = delete;
@@ -94,6 +97,8 @@ class ContourLoop {
     if (st != arbor::nmpc::NmpcStatus::prepared)
       return st;
     auto& set = ctrl_.settings();
+    if (options_.qp_max_iter > 0)
+      set.qp.max_iter = options_.qp_max_iter;
     const auto keep = set;
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());
@@ -167,6 +172,7 @@ class ContourLoop {
     rec.sqp_iterations = ctrl_.info().iterations;
     rec.qp_iterations = ctrl_.info().qp_iterations;
     rec.status = st;
+    rec.qp_status = ctrl_.info().qp_status;
   }
 
   /// s reached s_end or the sample budget is spent.

@@ -51,6 +51,9 @@ void usage(const char* argv0) {
       "  --noise SIGMA     measurement noise std. dev. on q [rad] (qd: 10 SIGMA), default 0\n"
       "  --seed N          noise seed (default 1)\n"
       "  --soft-weight W   slack weight of the soft tunnel (soft builds; default 100)\n"
+      "  --backoff B       the controller's tunnel radius is rho - B (default 1e-4 m: margin for\n"
+      "                    the linearisation error of real-time iteration)\n"
+      "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard");
@@ -77,7 +80,7 @@ void write_csv(const char* path, const std::vector<Record>& log) {
       std::fprintf(f, ",%s%d", name, i);
   for (int i = 1; i <= nu; ++i)
     std::fprintf(f, ",u%d", i);
-  std::fprintf(f, ",prepare_us,feedback_us,sqp_iterations,qp_iterations,status\n");
+  std::fprintf(f, ",prepare_us,feedback_us,sqp_iterations,qp_iterations,status,qp_status\n");
   for (const Record& r : log) {
     std::fprintf(f, "%.4f,%.9g,%.9g,%.9g", r.t, r.x[14], r.x[15], r.sd_ref);
     for (int i = 0; i < 3; ++i)
@@ -93,8 +96,9 @@ void write_csv(const char* path, const std::vector<Record>& log) {
       std::fprintf(f, ",%.6g", r.tau_peak[i]);
     for (int i = 0; i < nu; ++i)
       std::fprintf(f, ",%.6g", r.u[i]);
-    std::fprintf(f, ",%.2f,%.2f,%d,%d,%s\n", r.prepare_us, r.feedback_us, r.sqp_iterations,
-                 r.qp_iterations, arbor::nmpc::to_string(r.status));
+    std::fprintf(f, ",%.2f,%.2f,%d,%d,%s,%s\n", r.prepare_us, r.feedback_us, r.sqp_iterations,
+                 r.qp_iterations, arbor::nmpc::to_string(r.status),
+                 arbor::qp::to_string(r.qp_status));
   }
   std::fclose(f);
 }
@@ -137,6 +141,10 @@ int main(int argc, char** argv) {
       o.seed = std::uint32_t(std::atol(value("a number")));
     } else if (a == "--soft-weight") {
       o.soft_weight = std::atof(value("a number"));
+    } else if (a == "--backoff") {
+      o.backoff = std::atof(value("a number"));
+    } else if (a == "--qp-iter") {
+      o.qp_max_iter = std::atoi(value("a number"));
     } else if (a == "--progress") {
       progress = std::atoi(value("a number"));
     } else {
@@ -151,10 +159,10 @@ int main(int argc, char** argv) {
       "N = %d, h = %g s, %s\n",
       to_string(kForm), kTagName, kSoft ? "soft" : "hard", rho, horizon, h,
       o.sqp ? "SQP mode" : "real-time iteration");
-  std::printf("sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, plant: %s%s\n",
-              sizeof(Loop::Controller), sizeof(Loop::W), o.c,
-              o.mismatch ? "+0.5 kg payload" : "nominal model",
-              o.noise > 0 ? ", measurement noise" : "");
+  std::printf(
+      "sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, back-off %g mm, plant: %s%s\n",
+      sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * o.backoff,
+      o.mismatch ? "+0.5 kg payload" : "nominal model", o.noise > 0 ? ", measurement noise" : "");
   const auto st0 = loop.start();
   std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
               loop.start_iterations());

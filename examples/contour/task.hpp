@@ -241,9 +241,10 @@ using D = ocp::Dims<nx, nu, 1, horizon>;
 
 /// The OCP of formulation F with provider Tag on workspace ws (caller-owned, outliving the
 /// problem and its controller); Soft: the tunnel with an exact-penalty slack of weight
-/// soft_weight (else hard).
+/// soft_weight (else hard). The controller's tunnel radius is `radius` (rho less a back-off
+/// margin for the linearisation error of real-time iteration).
 template <Formulation F, class Tag, bool Soft, class W>
-auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0) {
+auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, double radius = rho) {
   const auto q = ad::segment<0, nq>(D::x);
   const auto qd = ad::segment<nq, nq>(D::x);
   const auto s = ad::element<14>(D::x);
@@ -256,7 +257,7 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0) {
   const auto path_cost = ocp::least_squares(ad::cat(track, D::u, q, qd), path_weights<F>());
   const auto terminal_cost = ocp::least_squares(ad::cat(track, q, qd), terminal_weights());
   const auto e_p = ad::fn<3>(TunnelError{ref}, ad::call<Tag>(ad::bind<Position>(ws), q), s, D::p);
-  const auto hard_tunnel = ocp::convex_constraint(e_p, ocp::Ball<3>{rho});
+  const auto hard_tunnel = ocp::convex_constraint(e_p, ocp::Ball<3>{radius});
   const auto tunnel = [&] {
     if constexpr (Soft)
       return ocp::soft(hard_tunnel, soft_weight);
