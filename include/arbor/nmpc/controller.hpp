@@ -2,9 +2,10 @@
 //   - SCQP (HessianKind::gauss_newton, the paper's method): convex QPs from the outer functions'
 //     Hessians, no second derivatives of the dynamics;
 //   - exact-Hessian SQP (HessianKind::exact): the Lagrangian's Hessian from the expression layer;
-//     when the QP solver finds it non-convex, every stage block is convexified (ocp::convexify:
-//     eigenvalues below settings().hessian_floor raised to it) and the QP solved again, so blocks
-//     that are indefinite while the QP is convex on the dynamics' null space keep Newton steps;
+//     an iteration whose QP the solver finds non-convex, or whose step the line search rejects,
+//     is redone with the Gauss-Newton Hessian (convex by construction): globally SCQP's
+//     robustness, locally Newton steps (stage blocks may be indefinite while the QP is convex on
+//     the dynamics' null space);
 //   - globalisation of full solves by backtracking on the L1 merit function
 //       M(w) = f(w) + nu (|defects|_1 + constraint and bound violations),
 //     Armijo on the directional derivative g'd - nu viol(w) (exact for the L1 merit when d solves
@@ -218,9 +219,18 @@ class Nmpc {
       const NmpcStatus qs = solve_qp();
       if (qs != NmpcStatus::step_taken)
         return qs;
-      const NmpcStatus ls = settings_.line_search ? line_search(x0) : take_step(Scalar(1));
+      NmpcStatus ls = settings_.line_search ? line_search(x0) : take_step(Scalar(1));
+      if constexpr (H == ocp::HessianKind::exact) {
+        if (ls == NmpcStatus::line_search_failed) {  // not a descent step: Gauss-Newton's
+          const NmpcStatus gs = gauss_newton_step();
+          if (gs != NmpcStatus::step_taken)
+            return gs;
+          ls = line_search(x0);
+        }
+      }
       if (ls != NmpcStatus::step_taken)
         return ls;
+      x_[0] = x0;  // x_0 = x0 exactly (the QP meets dx_0 = x0 - x_0 to its tolerance)
     }
   }
 
@@ -281,15 +291,18 @@ class Nmpc {
   /// Evaluation and linearisation of every stage at the current plan, written into the QP, with
   /// the variable bounds in delta form (x_0's are set by embed()). Returns prepared or
   /// non_finite_evaluation.
-  [[nodiscard]] NmpcStatus linearize() {
+  [[nodiscard]] NmpcStatus linearize() { return linearize_as<H>(); }
+
+  /// linearize() with Hessian kind K (the exact-Hessian controller's Gauss-Newton fallback).
+  template <ocp::HessianKind K>
+  [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
-    constexpr Scalar no_floor = -inf;  // exact Hessians: convexified only if the QP needs it
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
       const VecN<Scalar, ng> lg = lam_a_.template segment<ng>(Qp::constraint_offset(k));
       const Vx ld = lam_a_.template segment<nx>(Qp::dynamics_offset(k));
-      ocp::linearize_path<H>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st, no_floor);
+      ocp::linearize_path<K>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st);
       if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
           st.lg.hasNaN() || st.ug.hasNaN())  // (row bounds may be infinite)
         return NmpcStatus::non_finite_evaluation;
@@ -302,7 +315,7 @@ class Nmpc {
     }
     auto& t = qp_.terminal;
     const VecN<Scalar, ngn> lgn = lam_a_.template tail<ngn>();
-    ocp::linearize_terminal<H>(problem_, x_[N], p_[N], lgn, t, no_floor);
+    ocp::linearize_terminal<K>(problem_, x_[N], p_[N], lgn, t);
     if (!qp::detail::all_finite(t.Q, t.q, t.C) || t.lg.hasNaN() || t.ug.hasNaN())
       return NmpcStatus::non_finite_evaluation;
     t.lbx = lbx_[N] - x_[N];
@@ -312,6 +325,7 @@ class Nmpc {
 
   /// Embeds the measured state: dx_0 = x0 - x_0.
   void embed(const Vx& x0) {
+    embedded_ = x0;
     qp_.stage[0].lbx = x0 - x_[0];
     qp_.stage[0].ubx = qp_.stage[0].lbx;
   }
@@ -319,44 +333,26 @@ class Nmpc {
   /// QP construction (update: the solver re-reads the vectors) and solve, warm-started at d = 0
   /// with the current multipliers. Returns step_taken (the step is in the solver) or qp_failed.
   [[nodiscard]] NmpcStatus solve_qp() {
-    qp::QpStatus st;
-    if (!qp_setup_ || std::memcmp(&applied_qp_, &settings_.qp, sizeof applied_qp_) != 0) {
-      st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
-      applied_qp_ = settings_.qp;
-      qp_setup_ = st == qp::QpStatus::accepted;
-    } else {
-      st = solver_.update(qp::Convexity::assumed);
-    }
-    info_.qp_status = st;
-    if (st != qp::QpStatus::accepted)
-      return NmpcStatus::qp_failed;
-    solver_.x().setZero();
-    solver_.lam_x() = lam_x_;
-    solver_.lam_a() = lam_a_;
-    st = solver_.solve();
+    const qp::QpStatus st = solve_prepared_qp();
     if constexpr (H == ocp::HessianKind::exact) {
-      if (st == qp::QpStatus::non_convex) {  // convexify every block and solve again
-        for (auto& stage : qp_.stage)
-          ocp::convexify_stage<nx, nu>(stage, settings_.hessian_floor);
-        ocp::convexify<Scalar, nx>(qp_.terminal.Q, settings_.hessian_floor);
+      if (st == qp::QpStatus::non_convex) {  // this iteration: the Gauss-Newton Hessian
         info_.qp_iterations += solver_.info().iterations;
-        st = solver_.update(qp::Convexity::assumed);
-        if (st == qp::QpStatus::accepted) {
-          solver_.x().setZero();
-          solver_.lam_x() = lam_x_;
-          solver_.lam_a() = lam_a_;
-          st = solver_.solve();
-        }
+        return gauss_newton_step();
       }
     }
-    info_.qp_status = st;
-    info_.qp_iterations += solver_.info().iterations;
-    ++info_.iterations;
-    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !solver_.lam_x().allFinite() ||
-        !solver_.lam_a().allFinite())
-      return NmpcStatus::qp_failed;
-    info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
-    return NmpcStatus::step_taken;
+    return finish_qp(st);
+  }
+
+  /// The exact-Hessian controller's fallback for one iteration: relinearises with the
+  /// Gauss-Newton Hessian (convex by construction) and solves the QP again.
+  [[nodiscard]] NmpcStatus gauss_newton_step() {
+    ++info_.hessian_fallbacks;
+    const NmpcStatus lin = linearize_as<ocp::HessianKind::gauss_newton>();
+    if (lin != NmpcStatus::prepared)
+      return lin;
+    embed(embedded_);
+    const qp::QpStatus st = solve_prepared_qp();
+    return finish_qp(st);
   }
 
   /// Backtracking on the L1 merit along the solver's step (see the top of this file); takes the
@@ -404,6 +400,36 @@ class Nmpc {
   }
 
  private:
+  /// QP update (setup when the settings changed) and warm-started solve; the QP's status.
+  qp::QpStatus solve_prepared_qp() {
+    qp::QpStatus st;
+    if (!qp_setup_ || std::memcmp(&applied_qp_, &settings_.qp, sizeof applied_qp_) != 0) {
+      st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
+      applied_qp_ = settings_.qp;
+      qp_setup_ = st == qp::QpStatus::accepted;
+    } else {
+      st = solver_.update(qp::Convexity::assumed);
+    }
+    if (st != qp::QpStatus::accepted)
+      return st;
+    solver_.x().setZero();
+    solver_.lam_x() = lam_x_;
+    solver_.lam_a() = lam_a_;
+    return solver_.solve();
+  }
+
+  /// Records a QP solve; step_taken when it gave a finite solution, else qp_failed.
+  NmpcStatus finish_qp(qp::QpStatus st) {
+    info_.qp_status = st;
+    info_.qp_iterations += solver_.info().iterations;
+    ++info_.iterations;
+    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !solver_.lam_x().allFinite() ||
+        !solver_.lam_a().allFinite())
+      return NmpcStatus::qp_failed;
+    info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
+    return NmpcStatus::step_taken;
+  }
+
   bool parameters_finite() const {
     for (const auto& p : p_)
       if (!p.allFinite())
@@ -430,14 +456,14 @@ class Nmpc {
            info_.complementarity <= settings_.tol_complementarity * (Scalar(1) + g);
   }
 
-  /// Takes x += alpha dx, w += alpha dw, lambda += alpha (lambda_QP - lambda).
+  /// Takes x += alpha dx, w += alpha dw, lambda = lambda_QP.
   NmpcStatus take_step(Scalar alpha) {
     for (int k = 0; k <= N; ++k)
       x_[std::size_t(k)] += alpha * solver_.state(k);
     for (int k = 0; k < N; ++k)
       w_[std::size_t(k)] += alpha * solver_.input(k);
-    lam_x_ += alpha * (solver_.lam_x() - lam_x_);
-    lam_a_ += alpha * (solver_.lam_a() - lam_a_);
+    lam_x_ = solver_.lam_x();  // full multiplier step (the QP's are the best estimate)
+    lam_a_ = solver_.lam_a();
     info_.step_size = alpha;
     return NmpcStatus::step_taken;
   }
@@ -493,6 +519,7 @@ class Nmpc {
   Info info_{};                           ///< figures of the last call
   Scalar penalty_ = 0;                    ///< L1 merit penalty nu
   bool prepared_ = false;                 ///< prepare() succeeded, feedback() not yet run
+  Vx embedded_ = Vx::Zero();              ///< the x0 of the last embed()
   bool qp_setup_ = false;                 ///< solver_.setup(qp_) was accepted once
   qp::QpSettings<Scalar> applied_qp_{};   ///< the QP settings the solver runs with
   std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points

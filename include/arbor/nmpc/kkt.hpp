@@ -35,6 +35,8 @@ template <class T, class L, class U, class M>
 void bound_residuals(const L& lb, const U& ub, const M& lam, KktResiduals<T>& r) {
   for (int i = 0; i < lb.size(); ++i) {
     r.primal = std::fmax(r.primal, std::fmax(positive(lb[i]), positive(-ub[i])));
+    if (lb[i] == ub[i])
+      continue;                                    // an equality: no complementarity
     const T gap = lam[i] > T(0) ? ub[i] : -lb[i];  // distance to the bound lam's sign names
     if (lam[i] != T(0) && std::isfinite(gap))
       r.complementarity = std::fmax(r.complementarity, std::fabs(lam[i] * gap));

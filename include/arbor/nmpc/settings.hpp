@@ -24,8 +24,16 @@ struct NmpcSettings {
   Scalar armijo = Scalar(1e-4);         ///< sufficient-decrease fraction eta
   Scalar backtrack = Scalar(0.5);       ///< step reduction per backtracking step
   Scalar penalty_margin = Scalar(1.5);  ///< nu >= margin * |lambda|_inf (never decreased)
-  Scalar hessian_floor = Scalar(single ? 1e-4 : 1e-8);  ///< exact Hessian: eigenvalue floor
-  qp::QpSettings<Scalar> qp{};                          ///< settings of the QP solver
+  /// Settings of the QP solver: its defaults, with a higher iteration cap (cold starts of long
+  /// horizons) and, in double, tolerances of 1e-10 (SQP steps accurate enough for the NLP's
+  /// 1e-8; at the QP's default 1e-8 the SQP can stall near a solution).
+  qp::QpSettings<Scalar> qp = [] {
+    qp::QpSettings<Scalar> s{};
+    s.max_iter = 1000;
+    if constexpr (!single)
+      s.tol_primal = s.tol_dual = s.tol_comp = Scalar(1e-10);
+    return s;
+  }();
 };
 
 }  // namespace arbor::nmpc

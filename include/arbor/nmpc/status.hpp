@@ -64,6 +64,7 @@ struct NmpcInfo {
   Scalar merit = 0;            ///< L1 merit at the last accepted point
   Scalar penalty = 0;          ///< the merit's penalty weight nu
   int line_search_steps = 0;   ///< backtracking steps of the last line search
+  int hessian_fallbacks = 0;   ///< exact Hessian: iterations redone with Gauss-Newton
 };
 
 }  // namespace arbor::nmpc

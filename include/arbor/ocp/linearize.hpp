@@ -6,7 +6,7 @@
 //                (mu_i = max(0, multiplier) of convex constraint i), slacks 2 l2: positive
 //                semidefinite by construction, no second derivative of any inner function;
 //                exact: the Hessian of the stage Lagrangian in (x, u) from the expression layer
-//                (nested duals), then made convex (see convexify below)
+//                (nested duals); it may be indefinite (nmpc/ falls back to Gauss-Newton then)
 //   constraints  rows in the order of the terms: a hard constraint g gives lg - g <= J d <= ug - g;
 //                a soft one with slack s gives a lower row J d + ds >= lg - g - s and an upper row
 //                J d - ds <= ug - g + s; a convex constraint gives grad psi' J_c d <= -psi(c)
@@ -20,7 +20,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 #include <cstddef>
 #include <limits>
 #include <tuple>
@@ -40,7 +39,7 @@ namespace arbor::ocp {
 /// Which Hessian a linearisation builds.
 enum class HessianKind : unsigned char {
   gauss_newton,  ///< SCQP: from the outer functions' Hessians (PSD by construction)
-  exact,         ///< exact Hessian of the Lagrangian, convexified per stage
+  exact,         ///< exact Hessian of the Lagrangian (may be indefinite)
 };
 
 /// Name of a HessianKind value.
@@ -127,55 +126,15 @@ auto lagrangian(const Costs& costs, const Cons& cons, const Dyn* dyn) {
 
 }  // namespace detail
 
-/// Makes a symmetric block positive definite: eigenvalues below `floor` are raised to it (the
-/// block is unchanged when its eigenvalues are all above it). Multiple shooting makes the
-/// Lagrangian's Hessian block diagonal per stage, so clipping each block keeps the QP convex;
-/// near a solution with positive definite blocks the exact Newton step is kept (superlinear
-/// convergence); with an indefinite block (positive only on the constraints' null space) the
-/// step is that of a modified Newton method. Cost: one n x n symmetric eigen-decomposition.
-template <class T, int n>
-void convexify(MatN<T, n>& H, T floor) {
-  const MatN<T, n> sym = T(0.5) * (H + H.transpose());
-  Eigen::SelfAdjointEigenSolver<MatN<T, n>> es(sym);
-  VecN<T, n> ev = es.eigenvalues();
-  bool changed = false;
-  for (int i = 0; i < n; ++i) {
-    if (ev[i] < floor) {
-      ev[i] = floor;
-      changed = true;
-    }
-  }
-  if (changed)
-    H = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
-  else
-    H = sym;
-}
-
-/// Convexifies the (x, u) Hessian block [Q S'; S R] of a QP stage in place (the slack part of R,
-/// diagonal and nonnegative, is left alone).
-template <int nx, int nu, class Stage, class T>
-void convexify_stage(Stage& st, T floor) {
-  constexpr int n = nx + nu;
-  MatN<T, n> h;
-  h.template topLeftCorner<nx, nx>() = st.Q;
-  h.template bottomLeftCorner<nu, nx>() = st.S.template topRows<nu>();
-  h.template topRightCorner<nx, nu>() = st.S.template topRows<nu>().transpose();
-  h.template bottomRightCorner<nu, nu>() = st.R.template topLeftCorner<nu, nu>();
-  convexify<T, n>(h, floor);
-  st.Q = h.template topLeftCorner<nx, nx>();
-  st.S.template topRows<nu>() = h.template bottomLeftCorner<nu, nx>();
-  st.R.template topLeftCorner<nu, nu>() = h.template bottomRightCorner<nu, nu>();
-}
-
 /// Linearises path stage (x, w = [u; s], p; successor x_next) into the QP stage `st` (every
 /// member but the variable bounds lbx, ubx, lbu, ubu). lam_dyn and lam_g are the multipliers of
 /// the stage's dynamics and QP rows (used by the Gauss-Newton term of convex constraints and by
-/// the exact Hessian). `floor`: the exact Hessian's eigenvalue floor.
+/// the exact Hessian).
 template <HessianKind H, class P, class T, class Stage>
 void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu + P::ns>& w,
                     const VecN<T, P::np>& p, const VecN<T, P::nx>& x_next,
-                    const VecN<T, P::nx>& lam_dyn, const VecN<T, qp_rows(P::ng)>& lam_g, Stage& st,
-                    T floor = T(0)) {
+                    const VecN<T, P::nx>& lam_dyn, const VecN<T, qp_rows(P::ng)>& lam_g,
+                    Stage& st) {
   constexpr int nx = P::nx, nu = P::nu, ns = P::ns, n = nx + nu;
   constexpr T inf = std::numeric_limits<T>::infinity();
   const VecN<T, nu> u = w.template head<nu>();
@@ -293,8 +252,6 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     const auto L =
         detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
     hess = ad::hessian<0, 1>(L, x, u, p, lam_dyn, mu);
-    if (floor > -std::numeric_limits<T>::infinity())
-      convexify<T, n>(hess, floor);
   }
   st.Q = hess.template topLeftCorner<nx, nx>();
   st.S.template topRows<nu>() = hess.template bottomLeftCorner<nu, nx>();
@@ -307,7 +264,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
 /// multipliers of its QP rows.
 template <HessianKind H, class P, class T, class Terminal>
 void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p,
-                        const VecN<T, qp_rows(P::ngn)>& lam_g, Terminal& t, T floor = T(0)) {
+                        const VecN<T, qp_rows(P::ngn)>& lam_g, Terminal& t) {
   constexpr int nx = P::nx;
   constexpr T inf = std::numeric_limits<T>::infinity();
   const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();  // terminal terms do not depend on u
@@ -363,8 +320,6 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     const auto L = detail::lagrangian<nx, P::nmn>(prob.terminal_costs, prob.terminal_constraints,
                                                   static_cast<const void*>(nullptr));
     t.Q = ad::hessian<0>(L, x, u0, p, VecN<T, nx>::Zero().eval(), mu);
-    if (floor > -std::numeric_limits<T>::infinity())
-      convexify<T, nx>(t.Q, floor);
   }
 }
 
