@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 #include "arbor/ad/expr.hpp"
 #include "arbor/ocp/problem.hpp"
@@ -35,7 +36,7 @@ auto pendulum_problem(double w_terminal = 100.0) {
   const auto tau = ad::element<0>(D::u);
   const auto ode =
       ad::cat(om, -(P::g / P::l) * ad::sin(th) - P::b * om + (1.0 / (P::m * P::l * P::l)) * tau);
-  const Eigen::Vector2d up(M_PI, 0.0);
+  const Eigen::Vector2d up(std::numbers::pi, 0.0);
   auto problem = ocp::make_problem<D>(
       ocp::rk4<M>(ode, P::h),
       ocp::path_costs(ocp::least_squares(D::x - ad::constant(up), std::array<double, 2>{1.0, 0.1}),
