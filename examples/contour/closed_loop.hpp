@@ -38,6 +38,9 @@ struct Options {
   double soft_weight = 100;  ///< slack weight of the soft tunnel (soft builds)
   double backoff = 1e-4;     ///< the controller's tunnel is rho - backoff [m]
   int qp_max_iter = 0;       ///< QP active-set iterations per QP (0: the library's default)
+  /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
+  /// not reached from the warm start on this problem: iteration limits, see README)
+  double qp_tol = 1e-8;
 };
 
 /// What one sample records (plant state after the sample, the control computed from it).
@@ -99,10 +102,13 @@ class ContourLoop {
     auto& set = ctrl_.settings();
     if (options_.qp_max_iter > 0)
       set.qp.max_iter = options_.qp_max_iter;
-    const auto keep = set;
+    const auto keep = set;  // the first solve runs with the library's defaults
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());
     set = keep;
+    if constexpr (std::is_same_v<Scalar, double>)  // (float keeps its own defaults)
+      if (!options_.sqp && options_.qp_tol > 0)
+        set.qp.tol_primal = set.qp.tol_dual = set.qp.tol_comp = Scalar(options_.qp_tol);
     if (options_.sqp) {
       // CONTOUR.md: primal 1e-3, dual 1e-1, at most 3 line-search steps; QP 1e-3 / 1e-1
       set.max_iter = options_.sqp_iter;

@@ -54,6 +54,7 @@ void usage(const char* argv0) {
       "  --backoff B       the controller's tunnel radius is rho - B (default 1e-4 m: margin for\n"
       "                    the linearisation error of real-time iteration)\n"
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
+      "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard");
@@ -143,6 +144,8 @@ int main(int argc, char** argv) {
       o.soft_weight = std::atof(value("a number"));
     } else if (a == "--backoff") {
       o.backoff = std::atof(value("a number"));
+    } else if (a == "--qp-tol") {
+      o.qp_tol = std::atof(value("a number"));
     } else if (a == "--qp-iter") {
       o.qp_max_iter = std::atoi(value("a number"));
     } else if (a == "--progress") {
