@@ -192,18 +192,20 @@ struct TrackResidual {
   }
 };
 
-/// The tunnel's e_p = p_ee - p_ref(s), times the stage parameter w (1 on stages 1..N-1, 0 on
-/// stage 0: x_0 is the measurement, no decision can change its error, and a hard tunnel that
-/// the measurement violates would make the QP infeasible).
+/// The tunnel's e_p = p_ee - p_ref(s) times inv_radius (see make_problem's `scaled`), times the
+/// stage parameter w (1 on stages 1..N-1, 0 on stage 0: x_0 is the measurement, no decision can
+/// change its error, and a hard tunnel that the measurement violates would make the QP
+/// infeasible).
 struct TunnelError {
   Reference ref;
+  double inv_radius = 1;
   template <class P, class X, class W>
   auto operator()(const P& p, const X& s, const W& w) const {
     using S = ad::ScalarOf<P>;
     const VecN<S, 3> pr = p_ref(ref, S(s[0]));
     VecN<S, 3> e;
     for (int i = 0; i < 3; ++i)
-      e[i] = (p[i] - pr[i]) * w[0];
+      e[i] = (p[i] - pr[i]) * (S(inv_radius) * w[0]);
     return e;
   }
 };
@@ -242,9 +244,14 @@ using D = ocp::Dims<nx, nu, 1, horizon>;
 /// The OCP of formulation F with provider Tag on workspace ws (caller-owned, outliving the
 /// problem and its controller); Soft: the tunnel with an exact-penalty slack of weight
 /// soft_weight (else hard). The controller's tunnel radius is `radius` (rho less a back-off
-/// margin for the linearisation error of real-time iteration).
+/// margin for the linearisation error of real-time iteration). `scaled`: the tunnel row is
+/// |e_p / radius|^2 - 1 <= 0 (of order one), else |e_p|^2 - radius^2 <= 0 (of order 1e-4 m^2,
+/// the default). Neither works in float yet: unscaled, the row sits at float's QP tolerance (1e-4)
+/// and the plant leaves the tunnel (13.6 mm); scaled, the first SQP solve ends in qp_failed. In
+/// double the scaled row makes the QP hit its iteration limit in 62 of 318 samples.
 template <Formulation F, class Tag, bool Soft, class W>
-auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, double radius = rho) {
+auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, double radius = rho,
+                  bool scaled = false) {
   const auto q = ad::segment<0, nq>(D::x);
   const auto qd = ad::segment<nq, nq>(D::x);
   const auto s = ad::element<14>(D::x);
@@ -256,8 +263,9 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, doubl
   const auto track = ad::fn<9>(TrackResidual{ref}, pose, ad::segment<14, 2>(D::x));
   const auto path_cost = ocp::least_squares(ad::cat(track, D::u, q, qd), path_weights<F>());
   const auto terminal_cost = ocp::least_squares(ad::cat(track, q, qd), terminal_weights());
-  const auto e_p = ad::fn<3>(TunnelError{ref}, ad::call<Tag>(ad::bind<Position>(ws), q), s, D::p);
-  const auto hard_tunnel = ocp::convex_constraint(e_p, ocp::Ball<3>{radius});
+  const auto e_p = ad::fn<3>(TunnelError{ref, scaled ? 1 / radius : 1.0},
+                             ad::call<Tag>(ad::bind<Position>(ws), q), s, D::p);
+  const auto hard_tunnel = ocp::convex_constraint(e_p, ocp::Ball<3>{scaled ? 1.0 : radius});
   const auto tunnel = [&] {
     if constexpr (Soft)
       return ocp::soft(hard_tunnel, soft_weight);
