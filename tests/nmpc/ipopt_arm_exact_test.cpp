@@ -27,17 +27,10 @@ PlainOcp plain() {
   return plain_arm(N, M, w_terminal, Eigen::Vector4d(M_PI, 0, 0, 0));
 }
 
-VecX guess(const PlainOcp& o) {
-  VecX w = VecX::Zero(o.n());
-  for (int k = 0; k <= o.N; ++k)
-    w.segment(o.x_index(k), o.nx) = o.x0;
-  return w;
-}
-
 const arbor::test::IpoptResult& ipopt_solution() {
   static const arbor::test::IpoptResult r = [] {
     const PlainOcp o = plain();
-    return solve_ipopt("arm", o, guess(o));
+    return solve_ipopt("arm", o, constant_guess(o));
   }();
   return r;
 }
@@ -63,7 +56,7 @@ auto run(const VecX& w0, int max_iter) {
 // iterations, so it starts from the plan of 20 SCQP iterations (multipliers reset).
 TEST(IpoptArm, ExactHessianFromScqpPlan) {
   const PlainOcp o = plain();
-  const auto warm = run<HessianKind::gauss_newton>(guess(o), 20);
+  const auto warm = run<HessianKind::gauss_newton>(constant_guess(o), 20);
   EXPECT_EQ(warm.status, arbor::nmpc::NmpcStatus::iteration_limit);
   expect_matches_ipopt(kName, o, run<HessianKind::exact>(warm.point.w, 100), ipopt_solution(),
                        Tolerances{});
@@ -72,7 +65,7 @@ TEST(IpoptArm, ExactHessianFromScqpPlan) {
 // Records (no assertion) where exact-Hessian SQP from the cold guess ends.
 TEST(IpoptArm, ExactHessianColdStart) {
   const PlainOcp o = plain();
-  const auto r = run<HessianKind::exact>(guess(o), 100);
+  const auto r = run<HessianKind::exact>(constant_guess(o), 100);
   const Kkt kkt = kkt_residuals(o, r.point);
   std::printf(
       "[nmpc-ipopt] arm exact from the cold guess: %s after %d iterations, objective "

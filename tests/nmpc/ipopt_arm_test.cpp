@@ -30,17 +30,10 @@ PlainOcp plain() {
   return plain_arm(N, M, w_terminal, Eigen::Vector4d(M_PI, 0, 0, 0));
 }
 
-VecX guess(const PlainOcp& o) {
-  VecX w = VecX::Zero(o.n());
-  for (int k = 0; k <= o.N; ++k)
-    w.segment(o.x_index(k), o.nx) = o.x0;
-  return w;
-}
-
 const arbor::test::IpoptResult& ipopt_solution() {
   static const arbor::test::IpoptResult r = [] {
     const PlainOcp o = plain();
-    return solve_ipopt("arm", o, guess(o));
+    return solve_ipopt("arm", o, constant_guess(o));
   }();
   return r;
 }
@@ -54,7 +47,7 @@ NlpPoint check(const char* name, int max_iter, const Tolerances& tol) {
   const auto problem = arm_problem<N, M, Tag>(*ws, w_terminal);
   using Ctrl = arbor::nmpc::Nmpc<std::remove_cvref_t<decltype(problem)>, double, H>;
   const auto ctrl = std::make_unique<Ctrl>(problem);
-  const auto run = solve_nmpc(*ctrl, o, guess(o), max_iter);
+  const auto run = solve_nmpc(*ctrl, o, constant_guess(o), max_iter);
   expect_matches_ipopt(name, o, run, ipopt_solution(), tol);
   return run.point;
 }

@@ -29,18 +29,10 @@ PlainOcp plain() {
   return plain_cartpole(N, M, w_terminal, Eigen::Vector4d::Zero());
 }
 
-/// Guess: every state x0, every input zero.
-VecX guess(const PlainOcp& o) {
-  VecX w = VecX::Zero(o.n());
-  for (int k = 0; k <= o.N; ++k)
-    w.segment(o.x_index(k), o.nx) = o.x0;
-  return w;
-}
-
 const arbor::test::IpoptResult& ipopt_solution() {
   static const arbor::test::IpoptResult r = [] {
     const PlainOcp o = plain();
-    return solve_ipopt("cart-pole", o, guess(o));
+    return solve_ipopt("cart-pole", o, constant_guess(o));
   }();
   return r;
 }
@@ -56,8 +48,9 @@ NmpcRun<Ctrl<H>> run(const VecX& w0, int max_iter) {
 
 TEST(IpoptCartPole, GaussNewton) {
   const PlainOcp o = plain();
-  expect_matches_ipopt("cart-pole gauss_newton", o, run<HessianKind::gauss_newton>(guess(o), 500),
-                       ipopt_solution(), Tolerances{});
+  expect_matches_ipopt("cart-pole gauss_newton", o,
+                       run<HessianKind::gauss_newton>(constant_guess(o), 500), ipopt_solution(),
+                       Tolerances{});
 }
 
 // Exact-Hessian SQP from the cold guess does not converge on this problem (100 iterations end
@@ -66,7 +59,7 @@ TEST(IpoptCartPole, GaussNewton) {
 // the usual Gauss-Newton-then-Newton sequence.
 TEST(IpoptCartPole, ExactHessianFromScqpPlan) {
   const PlainOcp o = plain();
-  const auto warm = run<HessianKind::gauss_newton>(guess(o), 20);
+  const auto warm = run<HessianKind::gauss_newton>(constant_guess(o), 20);
   EXPECT_EQ(warm.status, arbor::nmpc::NmpcStatus::iteration_limit);
   expect_matches_ipopt("cart-pole exact (from 20 SCQP iterations)", o,
                        run<HessianKind::exact>(warm.point.w, 100), ipopt_solution(), Tolerances{});
@@ -75,7 +68,7 @@ TEST(IpoptCartPole, ExactHessianFromScqpPlan) {
 // Records (no assertion) where exact-Hessian SQP from the cold guess ends.
 TEST(IpoptCartPole, ExactHessianColdStart) {
   const PlainOcp o = plain();
-  const auto r = run<HessianKind::exact>(guess(o), 100);
+  const auto r = run<HessianKind::exact>(constant_guess(o), 100);
   const Kkt kkt = kkt_residuals(o, r.point);
   std::printf(
       "[nmpc-ipopt] cart-pole exact from the cold guess: %s after %d iterations, objective "

@@ -49,18 +49,10 @@ PlainOcp plain_pendulum() {
   return o;
 }
 
-/// Guess: every state x0, every input zero.
-VecX guess(const PlainOcp& o) {
-  VecX w = VecX::Zero(o.n());
-  for (int k = 0; k <= o.N; ++k)
-    w.segment(o.x_index(k), o.nx) = o.x0;
-  return w;
-}
-
 const arbor::test::IpoptResult& ipopt_solution() {
   static const arbor::test::IpoptResult r = [] {
     const PlainOcp o = plain_pendulum();
-    return solve_ipopt("pendulum", o, guess(o));
+    return solve_ipopt("pendulum", o, constant_guess(o));
   }();
   return r;
 }
@@ -71,7 +63,7 @@ void check(const char* name, int max_iter, const Tolerances& tol) {
   const auto problem = pendulum_problem<N, M>(w_terminal);
   using Ctrl = arbor::nmpc::Nmpc<std::remove_cvref_t<decltype(problem)>, double, H>;
   const auto ctrl = std::make_unique<Ctrl>(problem);
-  const auto run = solve_nmpc(*ctrl, o, guess(o), max_iter);
+  const auto run = solve_nmpc(*ctrl, o, constant_guess(o), max_iter);
   expect_matches_ipopt(name, o, run, ipopt_solution(), tol);
 }
 

@@ -105,6 +105,14 @@ struct PlainOcp {
   }
 };
 
+/// The solvers' common initial guess: every state x0, every input zero.
+inline VecX constant_guess(const PlainOcp& o) {
+  VecX w = VecX::Zero(o.n());
+  for (int k = 0; k <= o.N; ++k)
+    w.segment(o.x_index(k), o.nx) = o.x0;
+  return w;
+}
+
 /// 4-point central difference step for a value v (exactly representable v +- h).
 inline double fd_step(double v) {
   const double h = 7e-4 * std::max(1.0, std::abs(v));
