@@ -278,12 +278,8 @@ class Nmpc {
     const Vx xn = ad::evaluate(problem_.dynamics, x_[N], u, p_[N]);
     if (xn.allFinite())
       x_[N] = xn;
-    constexpr int NW = nx + nw, NR = nx + ng;
-    for (int k = 0; k + 1 < N; ++k) {
-      lam_x_.template segment<NW>(k * NW) = lam_x_.template segment<NW>((k + 1) * NW);
-      lam_a_.template segment<NR>(k * NR) = lam_a_.template segment<NR>((k + 1) * NR);
-    }
-    lam_x_.template segment<nx>((N - 1) * NW) = lam_x_.template tail<nx>();
+    QpSolver::shift_variables(lam_x_);
+    QpSolver::shift_rows(lam_a_);
     prepared_ = false;
   }
 

@@ -75,19 +75,6 @@ inline constexpr bool is_convex_constraint_v = false;
 template <class E, class Psi, bool Soft>
 inline constexpr bool is_convex_constraint_v<ConvexConstraint<E, Psi, Soft>> = true;
 
-/// Value v and Jacobian J (rows x n) of e with respect to the arguments Wrt..., from one
-/// evaluation at Dual<T, n>.
-template <int n, int... Wrt, class E, class T, class... A>
-void value_jacobian(const E& e, VecN<T, E::rows>& v, Eigen::Matrix<T, E::rows, n>& J,
-                    const A&... args) {
-  const auto r = ad::detail::eval_at<ad::Dual<T, n>, Wrt...>(e, args...);
-  for (int i = 0; i < E::rows; ++i) {
-    v[i] = r[i].v;
-    for (int k = 0; k < n; ++k)
-      J(i, k) = r[i].d[k];
-  }
-}
-
 /// The scalar stage Lagrangian as an expression in (x, u, p, lam_dyn = Symbol<3, nx>,
 /// mu = Symbol<4, nm>): costs + mu' g (+ mu_i psi_i(c_i)) [- lam_dyn' F].
 template <int NX, int NM, class Costs, class Cons, class Dyn>
@@ -159,9 +146,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
 
   detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
     constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    VecN<T, m> rv;
-    Eigen::Matrix<T, m, n> J;
-    detail::value_jacobian<n, 0, 1>(c.r, rv, J, x, u, p);
+    const auto [rv, J] = ad::value_and_jacobian<0, 1>(c.r, x, u, p);
     grad.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
     if constexpr (H == HessianKind::gauss_newton)
       hess.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
@@ -177,11 +162,14 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
   [[maybe_unused]] VecN<T, (P::nm > 0 ? P::nm : 1)> mu = decltype(mu)::Zero();
   detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
     using C = std::remove_cvref_t<decltype(c)>;
+    for (int j = 0; j < C::slacks; ++j) {  // slack costs l1 s + l2 s^2
+      const int i = nu + slack + j;
+      st.r[i] = T(c.l1) + T(2 * c.l2) * w[i];
+      st.R(i, i) = T(2 * c.l2);
+    }
     if constexpr (detail::is_convex_constraint_v<C>) {
       constexpr int m = decltype(c.c)::rows;
-      VecN<T, m> cv;
-      Eigen::Matrix<T, m, n> J;
-      detail::value_jacobian<n, 0, 1>(c.c, cv, J, x, u, p);
+      const auto [cv, J] = ad::value_and_jacobian<0, 1>(c.c, x, u, p);
       const Eigen::Matrix<T, 1, n> jrow = c.psi.template gradient<T, m>(cv).transpose() * J;
       st.C.row(row) = jrow.template head<nx>();
       st.D.row(row).template head<nu>() = jrow.template tail<nu>();
@@ -203,9 +191,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       ++nl;
     } else {
       constexpr int m = C::rows;
-      VecN<T, m> gv;
-      Eigen::Matrix<T, m, n> J;
-      detail::value_jacobian<n, 0, 1>(c.g, gv, J, x, u, p);
+      const auto [gv, J] = ad::value_and_jacobian<0, 1>(c.g, x, u, p);
       const int copies = C::soft ? 2 : 1;
       for (int side = 0; side < copies; ++side) {
         st.C.template middleRows<m>(row + side * m) = J.template leftCols<nx>();
@@ -236,18 +222,6 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     }
   });
 
-  // slack costs l1 s + l2 s^2 (the slack columns follow the terms' order)
-  slack = 0;
-  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
-    using C = std::remove_cvref_t<decltype(c)>;
-    for (int j = 0; j < C::slacks; ++j) {
-      const int i = nu + slack + j;
-      st.r[i] = T(c.l1) + T(2 * c.l2) * w[i];
-      st.R(i, i) = T(2 * c.l2);
-    }
-    slack += C::slacks;
-  });
-
   if constexpr (H == HessianKind::exact) {
     const auto L =
         detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
@@ -272,9 +246,7 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
   t.q.setZero();
   detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
     constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    VecN<T, m> rv;
-    Eigen::Matrix<T, m, nx> J;
-    detail::value_jacobian<nx, 0>(c.r, rv, J, x, u0, p);
+    const auto [rv, J] = ad::value_and_jacobian<0>(c.r, x, u0, p);
     t.q.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
     if constexpr (H == HessianKind::gauss_newton)
       t.Q.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
@@ -290,9 +262,7 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     using C = std::remove_cvref_t<decltype(c)>;
     if constexpr (detail::is_convex_constraint_v<C>) {
       constexpr int m = decltype(c.c)::rows;
-      VecN<T, m> cv;
-      Eigen::Matrix<T, m, nx> J;
-      detail::value_jacobian<nx, 0>(c.c, cv, J, x, u0, p);
+      const auto [cv, J] = ad::value_and_jacobian<0>(c.c, x, u0, p);
       t.C.row(row) = c.psi.template gradient<T, m>(cv).transpose() * J;
       t.lg[row] = -inf;
       t.ug[row] = -c.psi.template value<T, m>(cv);
@@ -304,9 +274,7 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
       ++row;
     } else {
       constexpr int m = C::rows;
-      VecN<T, m> gv;
-      Eigen::Matrix<T, m, nx> J;
-      detail::value_jacobian<nx, 0>(c.g, gv, J, x, u0, p);
+      const auto [gv, J] = ad::value_and_jacobian<0>(c.g, x, u0, p);
       t.C.template middleRows<m>(row) = J;
       for (int i = 0; i < m; ++i) {
         t.lg[row + i] = T(c.lg[std::size_t(i)]) - gv[i];

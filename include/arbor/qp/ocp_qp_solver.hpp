@@ -95,15 +95,30 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   /// multipliers, dyn_{N-1}, gen_{N-1} and gen_N keep their values. The working set follows,
   /// since solve() rebuilds it from the multipliers' signs. Cost: one copy of the iterate.
   void shift() {
-    constexpr int NW = NX + NU, NR = NX + NG;
     auto& c = this->core_;
-    for (int k = 0; k + 1 < N; ++k) {
-      c.x.template segment<NW>(k * NW) = c.x.template segment<NW>((k + 1) * NW);
-      c.lam_x.template segment<NW>(k * NW) = c.lam_x.template segment<NW>((k + 1) * NW);
-      c.lam_a.template segment<NR>(k * NR) = c.lam_a.template segment<NR>((k + 1) * NR);
-    }
-    c.x.template segment<NX>((N - 1) * NW) = c.x.template tail<NX>();
-    c.lam_x.template segment<NX>((N - 1) * NW) = c.lam_x.template tail<NX>();
+    shift_variables(c.x);
+    shift_variables(c.lam_x);
+    shift_rows(c.lam_a);
+  }
+
+  /// shift() of a vector in the flat variable layout (x, or the bound multipliers): stage k
+  /// takes stage k+1's [x; u], the last state and input repeat. For callers that keep their own
+  /// copies (the NMPC's multipliers).
+  template <class V>
+  static void shift_variables(V& v) {
+    constexpr int NW = NX + NU;
+    for (int k = 0; k + 1 < N; ++k)
+      v.template segment<NW>(k * NW) = v.template segment<NW>((k + 1) * NW);
+    v.template segment<NX>((N - 1) * NW) = v.template tail<NX>();
+  }
+
+  /// shift() of a vector in the flat row layout (the row multipliers): stage k takes stage k+1's
+  /// [dyn; gen] rows; the last path stage's rows and the terminal rows keep their values.
+  template <class A>
+  static void shift_rows(A& a) {
+    constexpr int NR = NX + NG;
+    for (int k = 0; k + 1 < N; ++k)
+      a.template segment<NR>(k * NR) = a.template segment<NR>((k + 1) * NR);
   }
 
   // ---- per-stage views of the solution (read-only, valid until the next solve() or shift())
