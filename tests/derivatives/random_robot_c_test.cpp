@@ -1,5 +1,5 @@
 // Derivatives on random compile-time robots: finite differences (with and without external
-// forces), identities, frame derivatives, float against double.
+// forces), identities, frame derivatives (float: file b).
 #include "../dynamics/random_robot.hpp"
 #include "derivative_checks.hpp"
 
@@ -12,9 +12,6 @@ TEST(DerivativesRandomRobot_4_14, MatchFiniteDifferences) {
 }
 TEST(DerivativesRandomRobot_4_14, FrameDerivativesMatchFiniteDifferences) {
   frame_derivatives_match_finite_differences<R_4_14>(414u + 1);
-}
-TEST(DerivativesRandomRobot_4_14, FloatMatchesDouble) {
-  float_matches_double<R_4_14>(414u + 2);
 }
 
 }  // namespace

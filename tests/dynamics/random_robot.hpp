@@ -212,4 +212,31 @@ struct RandomRobot {
   static constexpr std::array<model::Frame, N + 1> frames = gen.frames;
 };
 
+/// True when R's joints include every model::JointKind (the random-robot float checks run on such
+/// a robot: see tests/dynamics/random_robot_b_test.cpp).
+template <class R>
+constexpr bool has_every_joint_kind() {
+  for (int k = 0; k <= int(model::JointKind::prismatic_unaligned); ++k) {
+    bool found = false;
+    for (int i = 0; i < R::nb; ++i)
+      found = found || int(R::joint_kind[std::size_t(i)]) == k;
+    if (!found)
+      return false;
+  }
+  return true;
+}
+
+/// True when R's tree branches: a body with two or more children, or two or more roots.
+template <class R>
+constexpr bool is_branched() {
+  for (int b = -1; b < R::nb; ++b) {
+    int children = 0;
+    for (int i = 0; i < R::nb; ++i)
+      children += R::parent[std::size_t(i)] == b ? 1 : 0;
+    if (children > 1)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace arbor::test

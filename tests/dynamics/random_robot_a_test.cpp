@@ -1,4 +1,5 @@
-// Random compile-time robots against the textbook implementation, identities, float.
+// Random compile-time robots against the textbook implementation and identities; float on 2_5
+// and 7_12 (file b).
 #include "random_checks.hpp"
 
 namespace {
@@ -11,9 +12,6 @@ TEST(RandomRobot_1_1, MatchesTextbook) {
 }
 TEST(RandomRobot_1_1, Identities) {
   identities<R_1_1>();
-}
-TEST(RandomRobot_1_1, FloatMatchesDouble) {
-  float_matches_double<R_1_1>();
 }
 
 using R_2_5 = arbor::test::RandomRobot<2, 5>;
@@ -35,9 +33,6 @@ TEST(RandomRobot_6_7, MatchesTextbook) {
 }
 TEST(RandomRobot_6_7, Identities) {
   identities<R_6_7>();
-}
-TEST(RandomRobot_6_7, FloatMatchesDouble) {
-  float_matches_double<R_6_7>();
 }
 
 }  // namespace
