@@ -1,6 +1,9 @@
-// arbor: first-order analytical derivatives of the rigid-body algorithms.
+// arbor: analytical derivatives of the rigid-body algorithms: first order (rnea, aba, frames) and
+// contracted second order (Hessians of lambda' ID and lambda' FD).
 #pragma once
 
 #include "arbor/derivatives/aba_derivatives.hpp"
+#include "arbor/derivatives/aba_second_order.hpp"
 #include "arbor/derivatives/frame_derivatives.hpp"
 #include "arbor/derivatives/rnea_derivatives.hpp"
+#include "arbor/derivatives/rnea_second_order.hpp"

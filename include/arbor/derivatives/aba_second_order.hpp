@@ -1,0 +1,86 @@
+// arbor: contracted second-order derivatives of forward dynamics: the Hessian of
+// lambda' FD(q, v, tau) with respect to x = (q, v, tau), from inverse dynamics' second-order
+// derivatives and M^-1 through the identity ID(q, v, FD(q, v, tau)) = tau (Singh, Russell &
+// Wensing 2022 use the same identity). With u = (q, v), ddq = FD(x), A = d ddq / d u and
+// mu = M^-1 lambda, differentiating mu' ID(u, ddq(x)) = mu' tau twice gives
+//   H_FD = -Z' H_ID(mu) Z,   Z = d(u, ddq)/dx = [1 0; A M^-1],
+// and since the a-a and a-v blocks of H_ID vanish, with Hqa = d2(mu' ID)/dq da:
+//   H_FD = -[Hqq + Hqa A_q + (Hqa A_q)'   Hqv + Hqa A_v   Hqa M^-1]
+//           [  (Hqv + Hqa A_v)'            Hvv            0       ]
+//           [  (Hqa M^-1)'                 0              0       ].
+// Cost: aba_derivatives (one minverse, O(n d) sweeps, two n x n products), the O(n d) ID
+// second-order sweep at (q, v, ddq) reusing its placements, and 3 n^3 multiply-adds.
+#pragma once
+
+#include "arbor/derivatives/aba_derivatives.hpp"
+#include "arbor/derivatives/derivative_data.hpp"
+#include "arbor/derivatives/rnea_second_order.hpp"
+#include "arbor/derivatives/second_order_data.hpp"
+
+namespace arbor {
+
+namespace detail {
+
+/// aba_second_order_derivatives at (q, v, tau): see the file comment.
+template <class R, class Scalar, class Q, class V, class T, class L>
+ARBOR_INLINE void aba_second_order_impl(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd,
+                                        SecondOrderData<R, Scalar>& s,
+                                        const Eigen::MatrixBase<Q>& q,
+                                        const Eigen::MatrixBase<V>& v,
+                                        const Eigen::MatrixBase<T>& tau,
+                                        const Eigen::MatrixBase<L>& lambda, const Vec3<Scalar>& g) {
+  constexpr int n = R::nv;
+  aba_derivatives_impl<R, false>(d, dd, q, v, tau, g, nullptr);
+  const VecN<Scalar, n> lam = lambda.template cast<Scalar>();
+  s.mu.noalias() = d.Minv * lam;
+  // data.oMi and data.J hold the placements and world columns of q: reuse them.
+  rnea_second_order_impl<R, true>(d, s, q, v, d.ddq, s.mu, g);
+  auto& H = s.hessian;
+  const auto Hqa = H.template block<n, n>(0, 2 * n);
+  s.C.template leftCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dq);
+  s.C.template rightCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dv);
+  s.B.noalias() = Hqa.lazyProduct(d.Minv);
+  // q-q, q-v, v-q, v-v
+  for (int c = 0; c < n; ++c)
+    for (int r = c; r < n; ++r) {
+      const Scalar e = -(H(r, c) + s.C(r, c) + s.C(c, r));
+      H(r, c) = e;
+      H(c, r) = e;
+    }
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r) {
+      const Scalar e = -(H(r, n + c) + s.C(r, n + c));
+      H(r, n + c) = e;
+      H(n + c, r) = e;
+    }
+  H.template block<n, n>(n, n) = -H.template block<n, n>(n, n);
+  // q-tau, tau-q (tau-tau and v-tau stay zero)
+  H.template block<n, n>(0, 2 * n) = -s.B;
+  H.template block<n, n>(2 * n, 0) = -s.B.transpose();
+  // gradient [A_q' lambda; A_v' lambda; mu]
+  s.gradient.template segment<n>(0).noalias() = dd.ddq_dq.transpose() * lam;
+  s.gradient.template segment<n>(n).noalias() = dd.ddq_dv.transpose() * lam;
+  s.gradient.template segment<n>(2 * n) = s.mu;
+}
+
+}  // namespace detail
+
+/// Contracted second-order derivatives of forward dynamics ddq = FD(q, v, tau) with gravity g
+/// (world frame), for multipliers lambda: so.hessian = d^2 (lambda' FD) / dx^2 with
+/// x = (q, v, tau) (3n x 3n, full symmetric; the tau-tau and v-tau blocks are zero),
+/// so.gradient = d (lambda' FD) / dx, data.ddq = FD(q, v, tau), and everything
+/// aba_derivatives leaves (deriv.ddq_dq, deriv.ddq_dv, data.Minv). so.mu = M^-1 lambda; data.tau
+/// is overwritten with ID(q, v, ddq) = tau. No allocation.
+template <Robot R, class Scalar, class Q, class V, class T, class L>
+void aba_second_order_derivatives(Data<R, Scalar>& data, DerivativeData<R, Scalar>& deriv,
+                                  SecondOrderData<R, Scalar>& so, const Eigen::MatrixBase<Q>& q,
+                                  const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<T>& tau,
+                                  const Eigen::MatrixBase<L>& lambda,
+                                  const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, T>();
+  static_assert(L::RowsAtCompileTime == R::nv && L::ColsAtCompileTime == 1,
+                "lambda must be a column vector of R::nv entries");
+  detail::aba_second_order_impl(data, deriv, so, q, v, tau, lambda, g);
+}
+
+}  // namespace arbor
