@@ -54,11 +54,15 @@ State<R> random_state(std::mt19937& gen) {
 inline constexpr double kStep = 1e-5;
 inline constexpr double kFdTol = 1e-6;
 
+// Each library call sits in its own non-inlined function: the sweeps are unrolled and inlined
+// into their callers, and one test function holding several of them would cost the compiler
+// gigabytes of memory.
+
 /// lambda' [dtau/dq, dtau/dv, M] at z = (q, v, a), from rnea_derivatives.
 template <class R>
-Vec<3 * R::nv> id_gradient(Data<R, double>& d, DerivativeData<R, double>& dd,
-                           const Vec<3 * R::nv>& z, const Vec<R::nv>& lambda,
-                           const Eigen::Vector3d& g) {
+[[gnu::noinline]] Vec<3 * R::nv> id_gradient(Data<R, double>& d, DerivativeData<R, double>& dd,
+                                             const Vec<3 * R::nv>& z, const Vec<R::nv>& lambda,
+                                             const Eigen::Vector3d& g) {
   constexpr int n = R::nv;
   rnea_derivatives<R>(d, dd, z.template segment<n>(0), z.template segment<n>(n),
                       z.template segment<n>(2 * n), g);
@@ -69,15 +73,44 @@ Vec<3 * R::nv> id_gradient(Data<R, double>& d, DerivativeData<R, double>& dd,
 
 /// lambda' [dddq/dq, dddq/dv, M^-1] at x = (q, v, tau), from aba_derivatives.
 template <class R>
-Vec<3 * R::nv> fd_gradient(Data<R, double>& d, DerivativeData<R, double>& dd,
-                           const Vec<3 * R::nv>& x, const Vec<R::nv>& lambda,
-                           const Eigen::Vector3d& g) {
+[[gnu::noinline]] Vec<3 * R::nv> fd_gradient(Data<R, double>& d, DerivativeData<R, double>& dd,
+                                             const Vec<3 * R::nv>& x, const Vec<R::nv>& lambda,
+                                             const Eigen::Vector3d& g) {
   constexpr int n = R::nv;
   aba_derivatives<R>(d, dd, x.template segment<n>(0), x.template segment<n>(n),
                      x.template segment<n>(2 * n), g);
   Vec<3 * n> r;
   r << dd.ddq_dq.transpose() * lambda, dd.ddq_dv.transpose() * lambda, d.Minv * lambda;
   return r;
+}
+
+/// The ID Hessian at (q, v, a) with multipliers lambda and gravity g, under the allocation guard.
+template <class R, class S, class V>
+[[gnu::noinline]] void id_hessian(Data<R, S>& d, SecondOrderData<R, S>& so, const V& q, const V& v,
+                                  const V& a, const V& lambda, const Vec3<S>& g) {
+  NoAllocScope guard;
+  rnea_second_order_derivatives<R>(d, so, q, v, a, lambda, g);
+}
+
+/// The FD Hessian at (q, v, tau) with multipliers lambda and gravity g, under the allocation guard.
+template <class R, class S, class V>
+[[gnu::noinline]] void fd_hessian(Data<R, S>& d, DerivativeData<R, S>& dd,
+                                  SecondOrderData<R, S>& so, const V& q, const V& v, const V& tau,
+                                  const V& lambda, const Vec3<S>& g) {
+  NoAllocScope guard;
+  aba_second_order_derivatives<R>(d, dd, so, q, v, tau, lambda, g);
+}
+
+/// rnea and aba at double, under the allocation guard.
+template <class R>
+[[gnu::noinline]] Vec<R::nv> id_value(Data<R, double>& d, const State<R>& s) {
+  NoAllocScope guard;
+  return rnea<R>(d, s.q, s.v, s.a, s.g);
+}
+template <class R>
+[[gnu::noinline]] Vec<R::nv> fd_value(Data<R, double>& d, const State<R>& s) {
+  NoAllocScope guard;
+  return aba<R>(d, s.q, s.v, s.tau, s.g);
 }
 
 /// Central differences of a gradient function: column k is d grad / d x_k.
@@ -112,15 +145,11 @@ void matches_finite_differences(unsigned seed, int trials = 2) {
     // inverse dynamics
     Vec<3 * n> z;
     z << s.q, s.v, s.a;
-    {
-      NoAllocScope guard;
-      rnea_second_order_derivatives<R>(*d, *so, s.q, s.v, s.a, s.lambda, s.g);
-    }
-    Vec<n> tau;
+    id_hessian<R>(*d, *so, s.q, s.v, s.a, s.lambda, s.g);
+    const Vec<n> tau = id_value<R>(*e, s);
     Vec<3 * n> grad;
     {
       NoAllocScope guard;
-      tau = rnea<R>(*e, s.q, s.v, s.a, s.g);
       grad = id_gradient<R>(*e, *ed, z, s.lambda, s.g);
     }
     ARBOR_EXPECT_REL(d->tau, tau, 1e-12);
@@ -137,14 +166,10 @@ void matches_finite_differences(unsigned seed, int trials = 2) {
     // forward dynamics
     Vec<3 * n> x;
     x << s.q, s.v, s.tau;
+    fd_hessian<R>(*d, *dd, *so, s.q, s.v, s.tau, s.lambda, s.g);
+    const Vec<n> ddq = fd_value<R>(*e, s);
     {
       NoAllocScope guard;
-      aba_second_order_derivatives<R>(*d, *dd, *so, s.q, s.v, s.tau, s.lambda, s.g);
-    }
-    Vec<n> ddq;
-    {
-      NoAllocScope guard;
-      ddq = aba<R>(*e, s.q, s.v, s.tau, s.g);
       grad = fd_gradient<R>(*e, *ed, x, s.lambda, s.g);
     }
     ARBOR_EXPECT_REL(d->ddq, ddq, 1e-12);
@@ -170,22 +195,16 @@ void float_matches_double(unsigned seed, double tol_id = 1e-4, double tol_fd = 3
   auto fdd = std::make_unique<DerivativeData<R, float>>();
   std::mt19937 gen(seed);
   const State<R> s = random_state<R>(gen);
+  using Vf = Eigen::Matrix<float, R::nv, 1>;
   const Eigen::Vector3f gf = s.g.template cast<float>();
-  {
-    NoAllocScope guard;
-    rnea_second_order_derivatives<R>(*d, *so, s.q, s.v, s.a, s.lambda, s.g);
-    rnea_second_order_derivatives<R>(*f, *sf, s.q.template cast<float>(),
-                                     s.v.template cast<float>(), s.a.template cast<float>(),
-                                     s.lambda.template cast<float>(), gf);
-  }
+  const Vf qf = s.q.template cast<float>(), vf = s.v.template cast<float>(),
+           af = s.a.template cast<float>(), tf = s.tau.template cast<float>(),
+           lf = s.lambda.template cast<float>();
+  id_hessian<R>(*d, *so, s.q, s.v, s.a, s.lambda, s.g);
+  id_hessian<R>(*f, *sf, qf, vf, af, lf, gf);
   ARBOR_EXPECT_REL(sf->hessian.template cast<double>().eval(), so->hessian, tol_id);
-  {
-    NoAllocScope guard;
-    aba_second_order_derivatives<R>(*d, *dd, *so, s.q, s.v, s.tau, s.lambda, s.g);
-    aba_second_order_derivatives<R>(*f, *fdd, *sf, s.q.template cast<float>(),
-                                    s.v.template cast<float>(), s.tau.template cast<float>(),
-                                    s.lambda.template cast<float>(), gf);
-  }
+  fd_hessian<R>(*d, *dd, *so, s.q, s.v, s.tau, s.lambda, s.g);
+  fd_hessian<R>(*f, *fdd, *sf, qf, vf, tf, lf, gf);
   ARBOR_EXPECT_REL(sf->hessian.template cast<double>().eval(), so->hessian, tol_fd);
 }
 
@@ -214,10 +233,7 @@ void matches_reference(const std::string& file_name, double tol) {
     for (int r = 0; r < 3 * n; ++r)
       for (int c = 0; c < 3 * n; ++c)
         H(r, c) = Hr((r / n) * n + perm[r % n], (c / n) * n + perm[c % n]);
-    {
-      NoAllocScope guard;
-      rnea_second_order_derivatives<R>(*d, *so, q, v, a, lambda);
-    }
+    id_hessian<R>(*d, *so, q, v, a, lambda, Eigen::Vector3d(0, 0, -9.81));
     ARBOR_EXPECT_REL(so->hessian, H, tol);
   }
 }

@@ -3,14 +3,20 @@
 // exact-Hessian SQP adds for a constraint or dynamics F with multipliers lambda).
 //   AutoDiff     forward over forward: nested Dual<Dual<T, nin>, chunk> through F's templates,
 //                the outer directions in chunks of at most 8 (the paper's H^c);
-//   Analytical   Dual<T, nin> through the analytical first-order routine (the paper's H^a).
+//   Analytical   Dual<T, nin> through the analytical first-order routine (the paper's H^a);
+//   SecondOrder  the analytical second-order routines at T (rnea_second_order_derivatives,
+//                aba_second_order_derivatives; InverseDynamics and ForwardDynamics only).
 // Cost: AutoDiff ~ (nin / chunk) passes at nested duals; Analytical one derivative sweep at
-// Dual<T, nin>. HessianWorkspace<F, Tag, T> names the workspace each needs.
+// Dual<T, nin>; SecondOrder one O(n d) sweep at T (FD: plus aba_derivatives and 3 n^3
+// multiply-adds). HessianWorkspace<F, Tag, T> names the workspace each needs.
 #pragma once
 
 #include <type_traits>
 
 #include "arbor/ad/rbd_functions.hpp"
+#include "arbor/derivatives/aba_second_order.hpp"
+#include "arbor/derivatives/rnea_second_order.hpp"
+#include "arbor/derivatives/second_order_data.hpp"
 
 namespace arbor::ad {
 
@@ -22,13 +28,31 @@ template <int n>
 inline constexpr int hessian_chunk = (n + (n + 7) / 8 - 1) / ((n + 7) / 8);
 }  // namespace detail
 
+/// The workspace of contracted_hessian<SecondOrder> for robot R at scalar T: a Data and a
+/// DerivativeData at T (so value and value_and_jacobian work on it too) and a SecondOrderData.
+template <class R, class T>
+struct SecondOrderWorkspace : RbdWorkspace<R, Scalars<T>, Scalars<T>> {
+  SecondOrderData<R, T> so;  ///< the second-order sweep's arrays and results
+
+  /// The SecondOrderData (of scalar T only).
+  template <class U>
+  SecondOrderData<R, U>& second_order() {
+    static_assert(std::is_same_v<U, T>, "this SecondOrderWorkspace is for another scalar type");
+    return so;
+  }
+};
+
 /// The workspace contracted_hessian<Tag> of F needs at scalar T.
 template <class F, class Tag, class T = double>
 using HessianWorkspace = std::conditional_t<
-    std::is_same_v<Tag, Analytical>,
-    RbdWorkspace<typename F::Robot, Scalars<Dual<T, F::nin>>,
-                 std::conditional_t<F::needs_derivative_data, Scalars<Dual<T, F::nin>>, Scalars<>>>,
-    RbdWorkspace<typename F::Robot, Scalars<Dual<Dual<T, F::nin>, detail::hessian_chunk<F::nin>>>>>;
+    std::is_same_v<Tag, SecondOrder>, SecondOrderWorkspace<typename F::Robot, T>,
+    std::conditional_t<
+        std::is_same_v<Tag, Analytical>,
+        RbdWorkspace<
+            typename F::Robot, Scalars<Dual<T, F::nin>>,
+            std::conditional_t<F::needs_derivative_data, Scalars<Dual<T, F::nin>>, Scalars<>>>,
+        RbdWorkspace<typename F::Robot,
+                     Scalars<Dual<Dual<T, F::nin>, detail::hessian_chunk<F::nin>>>>>>;
 
 /// H = d^2 (lambda^T F(x)) / dx^2 (symmetric, nin x nin) from provider Tag, for the function of
 /// handle f (bind<F>(ws) with ws a HessianWorkspace<F, Tag, T>); also returns y = F(x).
@@ -36,12 +60,31 @@ template <class Tag, class F, class W, class T>
 void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
                         const VecN<T, F::nout>& lambda, VecN<T, F::nout>& y,
                         Eigen::Matrix<T, F::nin, F::nin>& H) {
-  constexpr int n = F::nin;
-  constexpr int m = F::nout;
-  using D = Dual<T, n>;
-  VecN<D, n> xd;
-  detail::seed<T, n>(x, xd);
-  if constexpr (std::is_same_v<Tag, Analytical>) {
+  if constexpr (std::is_same_v<Tag, SecondOrder>) {
+    using R = typename F::Robot;
+    constexpr int nv = R::nv;
+    constexpr bool id = std::is_same_v<F, InverseDynamics<R>>;
+    static_assert(id || std::is_same_v<F, ForwardDynamics<R>>,
+                  "the SecondOrder provider serves InverseDynamics and ForwardDynamics");
+    auto& d = f.ws->template data<T>();
+    auto& so = f.ws->template second_order<T>();
+    const auto q = x.template segment<nv>(0);
+    const auto v = x.template segment<nv>(nv);
+    const auto third = x.template segment<nv>(2 * nv);  // a (ID) or tau (FD)
+    if constexpr (id) {
+      rnea_second_order_derivatives<R>(d, so, q, v, third, lambda);
+      y = d.tau;
+    } else {
+      aba_second_order_derivatives<R>(d, f.ws->template derivatives<T>(), so, q, v, third, lambda);
+      y = d.ddq;
+    }
+    H = so.hessian;
+  } else if constexpr (std::is_same_v<Tag, Analytical>) {
+    constexpr int n = F::nin;
+    constexpr int m = F::nout;
+    using D = Dual<T, n>;
+    VecN<D, n> xd;
+    detail::seed<T, n>(x, xd);
     // d/dx_b of the analytical Jacobian, contracted with lambda.
     VecN<D, m> yd;
     Eigen::Matrix<D, m, n> Jd;
@@ -56,7 +99,12 @@ void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
         H(a, b) = s;
       }
   } else {
-    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
+    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical, AutoDiff or SecondOrder");
+    constexpr int n = F::nin;
+    constexpr int m = F::nout;
+    using D = Dual<T, n>;
+    VecN<D, n> xd;
+    detail::seed<T, n>(x, xd);
     constexpr int chunk = detail::hessian_chunk<n>;
     using DD = Dual<D, chunk>;
     for (int c0 = 0; c0 < n; c0 += chunk) {

@@ -10,5 +10,8 @@ struct Analytical {};
 /// Jacobian provider tag: dual numbers through the RBD templates (the paper's J^c; H^c for second
 /// order, nested duals).
 struct AutoDiff {};
+/// Hessian provider tag (contracted_hessian only): the analytical second-order routines
+/// (rnea_second_order_derivatives, aba_second_order_derivatives), no dual numbers.
+struct SecondOrder {};
 
 }  // namespace arbor::ad

@@ -185,11 +185,45 @@ ARBOR_INLINE void so_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scalar
   so_store(s.P, j, P);
 
   // pairs (j, k), k in the subtree of j
-  static_for<Lc>([&](auto K) {
-    constexpr int k = j + decltype(K)::value;
-    if constexpr (model::support<R>[k][j])
-      so_pair<R, j, k>(s, Sc);
-  });
+  if constexpr (model::subtree_contiguous<R>(j)) {
+    // the subtree's columns [j, last] at once, as row vectors (k = j included)
+    auto& H = s.hessian;
+    const Motion<Scalar>& ddS = s.ddS[j];
+    Eigen::Matrix<Scalar, 1, Lc> qq = row_dot<Lc, Scalar>(s.Ka, j, ddS.v, ddS.w);
+    if constexpr (B::parent >= 0) {  // dM = dS = 0 at the root
+      qq += row_dot<Lc, Scalar>(s.Km, j, dM.v, dM.w) + row_dot<Lc, Scalar>(s.Kt, j, dS.v, dS.w);
+      const Eigen::Matrix<Scalar, 1, Lc> qv =
+          row_dot<Lc, Scalar>(s.Wm, j, dM.v, dM.w) + row_dot<Lc, Scalar>(s.Wv, j, dS.v, dS.w);
+      const Eigen::Matrix<Scalar, 1, Lc> qa = row_dot<Lc, Scalar>(s.P, j, dM.v, dM.w);
+      H.row(j).template segment<Lc>(n + j) = qv;
+      H.col(j).template segment<Lc>(n + j) = qv.transpose();
+      H.row(j).template segment<Lc>(2 * n + j) = qa;
+      H.col(j).template segment<Lc>(2 * n + j) = qa.transpose();
+    }
+    H.row(j).template segment<Lc>(j) = qq;
+    H.col(j).template segment<Lc>(j) = qq.transpose();
+    const Eigen::Matrix<Scalar, 1, Lc> vv = row_dot<Lc, Scalar>(s.Wv, j, Sc.v, Sc.w);
+    H.row(n + j).template segment<Lc>(n + j) = vv;
+    H.col(n + j).template segment<Lc>(n + j) = vv.transpose();
+    if constexpr (Lc > 1) {
+      const Vec3<Scalar> dSv2 = dS.v * Scalar(2), dSw2 = dS.w * Scalar(2);
+      Eigen::Matrix<Scalar, 1, Lc - 1> vq = row_dot<Lc - 1, Scalar>(s.Kt, j + 1, Sc.v, Sc.w);
+      if constexpr (B::parent >= 0)
+        vq += row_dot<Lc - 1, Scalar>(s.Ka, j + 1, dSv2, dSw2);
+      const Eigen::Matrix<Scalar, 1, Lc - 1> aq = row_dot<Lc - 1, Scalar>(s.Ka, j + 1, Sc.v, Sc.w);
+      H.row(n + j).template segment<Lc - 1>(j + 1) = vq;
+      H.col(n + j).template segment<Lc - 1>(j + 1) = vq.transpose();
+      H.row(2 * n + j).template segment<Lc - 1>(j + 1) = aq;
+      H.col(2 * n + j).template segment<Lc - 1>(j + 1) = aq.transpose();
+    }
+  } else {
+    // a numbering that is topological but not depth-first: each member of the subtree alone
+    static_for<Lc>([&](auto K) {
+      constexpr int k = j + decltype(K)::value;
+      if constexpr (model::support<R>[k][j])
+        so_pair<R, j, k>(s, Sc);
+    });
+  }
 
   if constexpr (B::parent >= 0) {
     constexpr int p = B::parent;
