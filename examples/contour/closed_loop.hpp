@@ -1,7 +1,7 @@
 // The closed loop of the contour example: the NMPC (controller scalar Scalar, formulation F,
 // RBD derivative provider Tag, hard or Soft tunnel) against the plant of plant.hpp.
 //
-//   ContourLoop<F, Tag, Soft, Scalar> loop(options);   // big: give it static storage
+//   ContourLoop<F, Tag, Soft, Scalar[, Timer]> loop(options);  // big: give it static storage
 //   loop.start();                 // plant at x0, first OCP solved to convergence (warm start)
 //   while (!loop.done()) loop.sample();                // one 0.02 s sample, see sample()
 //
@@ -10,6 +10,8 @@
 // is measured (optionally with noise); feedback(x) solves one QP and gives the next u_0. SQP mode
 // (the paper's): shift(), then solve(x) with at most sqp_iter iterations and the tolerances of
 // CONTOUR.md. The controller's calls allocate nothing; the logging does not run inside them.
+// Timer (default SteadyTimer: the host's clock, microseconds) times the phases; bare-metal targets
+// give one that counts instructions (tests/contour/target_test.cpp).
 #pragma once
 
 #include <Eigen/Core>
@@ -41,6 +43,21 @@ struct Options {
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
+  /// The tunnel row as |e_p / radius|^2 - 1 <= 0 (order one) instead of |e_p|^2 - radius^2 <= 0
+  /// (make_problem's `scaled`). Float controllers need it: the float QP's primal tolerance (1e-4,
+  /// relative) is as large as the unscaled row (~1e-4 m^2), so the plant leaves the tunnel (see
+  /// README.md, "Float").
+  bool scaled_tunnel = false;
+};
+
+/// The default timer of ContourLoop: the host's steady clock, in microseconds. A timer is a type
+/// with `Stamp now()` and `double elapsed(Stamp from, Stamp to)`.
+struct SteadyTimer {
+  using Stamp = std::chrono::steady_clock::time_point;
+  static Stamp now() { return std::chrono::steady_clock::now(); }
+  static double elapsed(Stamp from, Stamp to) {
+    return std::chrono::duration<double, std::micro>(to - from).count();
+  }
 };
 
 /// What one sample records (plant state after the sample, the control computed from it).
@@ -53,13 +70,14 @@ struct Record {
   VecN<double, nq> tau;                    ///< max |tau| applied during the sample (signed: last)
   VecN<double, nq> tau_peak;               ///< max |tau_i| over the sample's substeps
   VecN<double, nu> u;                      ///< the control computed at the end of the sample
-  double prepare_us = 0, feedback_us = 0;  ///< controller time (SQP mode: solve in feedback)
+  double prepare_us = 0, feedback_us = 0;  ///< controller time in the Timer's unit (SteadyTimer:
+                                           ///< us; SQP mode: solve in feedback)
   int sqp_iterations = 0, qp_iterations = 0;
   arbor::nmpc::NmpcStatus status = arbor::nmpc::NmpcStatus::step_taken;
   arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
 };
 
-template <Formulation F, class Tag, bool Soft, class Scalar = double>
+template <Formulation F, class Tag, bool Soft, class Scalar = double, class Timer = SteadyTimer>
 class ContourLoop {
  public:
   using W = Workspace<Tag, Scalar>;
@@ -69,11 +87,13 @@ class ContourLoop {
   using PayloadPlant = Plant<PayloadRobot>;
   static constexpr Formulation formulation = F;
   static constexpr bool soft = Soft;
+  static constexpr bool is_float = std::is_same_v<Scalar, float>;
 
   explicit ContourLoop(const Options& o)
       : options_(o),
         ref_(make_reference(o.c)),
-        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - o.backoff)),
+        problem_(
+            make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - o.backoff, o.scaled_tunnel)),
         ctrl_(problem_),
         rng_(o.seed) {}
   ContourLoop(const ContourLoop&) = delete;
@@ -106,7 +126,7 @@ class ContourLoop {
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());
     set = keep;
-    if constexpr (std::is_same_v<Scalar, double>)  // (float keeps its own defaults)
+    if constexpr (!is_float)  // (float keeps its own defaults)
       if (!options_.sqp && options_.qp_tol > 0)
         set.qp.tol_primal = set.qp.tol_dual = set.qp.tol_comp = Scalar(options_.qp_tol);
     if (options_.sqp) {
@@ -126,7 +146,6 @@ class ContourLoop {
 
   /// One sample (see the top of this file); fills rec.
   void sample(Record& rec) {
-    using clock = std::chrono::steady_clock;
     const VecN<double, nu> u = ctrl_.control().template cast<double>();
     if (options_.mismatch)
       payload_.step(F, u);
@@ -148,19 +167,19 @@ class ContourLoop {
     double prep = 0, fb = 0;
     ctrl_.shift();
     if (!options_.sqp) {
-      const auto t0 = clock::now();
+      const auto t0 = Timer::now();
       st = ctrl_.prepare();
-      const auto t1 = clock::now();
+      const auto t1 = Timer::now();
       if (st == nm::NmpcStatus::prepared)
         st = ctrl_.feedback(meas.cast<Scalar>());
-      const auto t2 = clock::now();
-      prep = std::chrono::duration<double, std::micro>(t1 - t0).count();
-      fb = std::chrono::duration<double, std::micro>(t2 - t1).count();
+      const auto t2 = Timer::now();
+      prep = Timer::elapsed(t0, t1);
+      fb = Timer::elapsed(t1, t2);
     } else {
-      const auto t0 = clock::now();
+      const auto t0 = Timer::now();
       st = ctrl_.solve(meas.cast<Scalar>());
-      const auto t1 = clock::now();
-      fb = std::chrono::duration<double, std::micro>(t1 - t0).count();
+      const auto t1 = Timer::now();
+      fb = Timer::elapsed(t0, t1);
     }
     rec.t = t_;
     rec.x = pl;

@@ -1,0 +1,225 @@
+// The contour-following NMPC (examples/contour: Kinova Gen3, OCP-FD, or OCP-ID with
+// CONTOUR_TEST_ID=1; analytical RBD derivatives, hard tunnel, real-time iteration) in closed loop
+// for 50 samples, on every target that builds it: the host and the Cortex-M7 in double (float,
+// CONTOUR_TEST_FLOAT=1, for the host and the Cortex-M4F, builds but is not registered: see
+// tests/contour/CMakeLists.txt). The loop (controller, plant, workspace)
+// lives in static storage; every sample (plant step, shift, prepare, feedback) runs inside a
+// NoAllocScope (on bare metal the link-time heap trap does the same). Checked at every sample:
+// status, finite controls and states, the tunnel |e_p| <= rho (up to a margin per precision),
+// torque, velocity and position limits, s not decreasing, one SQP step per sample; progress at the
+// end.
+//
+// Host runs also write the plant trajectory they produced (contour_trajectory_<fd|id>_<scalar>.inc
+// in the working folder, build/tests/contour); a cross build configured with ARBOR_HOST_BUILD_DIR
+// compiles that file in (ARBOR_TEST_HOST_VALUES) and checks that the target's trajectory matches
+// the host's (tolerance per precision below). On the Cortex-M targets the preparation and feedback
+// phases are counted in instructions (SysTick ticks under QEMU's -icount shift=0, calibrated on a
+// loop of known length); the test prints their median and maximum over the run.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "arbor_test.hpp"
+#include "closed_loop.hpp"
+#include "status_names.hpp"
+
+#if defined(ARBOR_BARE_METAL)
+#include "arbor_target.h"
+#else
+#include <cstdio>
+#endif
+
+#ifndef CONTOUR_TEST_FLOAT
+#define CONTOUR_TEST_FLOAT 0
+#endif
+#ifndef CONTOUR_TEST_ID
+#define CONTOUR_TEST_ID 0
+#endif
+#ifndef ARBOR_TEST_HOST_VALUES
+#define ARBOR_TEST_HOST_VALUES 0
+#endif
+
+namespace arbor::nmpc {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
+
+namespace {
+
+using namespace contour;
+using arbor::nmpc::NmpcStatus;
+using Scalar = std::conditional_t<CONTOUR_TEST_FLOAT != 0, float, double>;
+constexpr const char* kScalarName = CONTOUR_TEST_FLOAT ? "float" : "double";
+constexpr Formulation kForm = CONTOUR_TEST_ID ? Formulation::id : Formulation::fd;
+constexpr const char* kFormName = CONTOUR_TEST_ID ? "id" : "fd";
+constexpr int kSamples = 50;
+
+#if ARBOR_TEST_HOST_VALUES
+// host_x[k][i]: the host's plant state after sample k+1 (same scalar), from the host's run.
+#include "contour_trajectory.inc"
+static_assert(sizeof(host_x) / sizeof(host_x[0]) == kSamples, "host trajectory of another length");
+#endif
+
+#if defined(ARBOR_BARE_METAL)
+/// Spins n iterations of two instructions (subs + bne): a loop of known instruction count.
+__attribute__((noinline)) void spin(std::uint32_t n) {
+  __asm volatile(
+      "1: subs %0, %0, #1 \n"
+      "   bne 1b          \n"
+      : "+r"(n)
+      :
+      : "cc");
+}
+/// Instructions per SysTick tick under -icount (0 before calibrate()).
+double g_insn_per_tick = 0;
+void calibrate() {
+  arbor_ticks_start();
+  const std::uint64_t t0 = arbor_ticks();
+  spin(2000000);  // 4e6 instructions
+  g_insn_per_tick = 4e6 / double(arbor_ticks() - t0);
+}
+/// Counts instructions (SysTick ticks x the calibration).
+struct InstructionTimer {
+  using Stamp = std::uint64_t;
+  static Stamp now() { return arbor_ticks(); }
+  static double elapsed(Stamp from, Stamp to) { return double(to - from) * g_insn_per_tick; }
+};
+using Timer = InstructionTimer;
+constexpr const char* kUnit = "instructions";
+#else
+using Timer = SteadyTimer;
+constexpr const char* kUnit = "us";
+#endif
+
+using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, Scalar, Timer>;
+Options make_options() {
+  Options o;
+  o.max_samples = kSamples;
+  return o;
+}
+Loop g_loop(make_options());  // ~320 KB in double: static storage, not the stack
+std::array<Record, kSamples> g_records;
+
+/// Median and maximum of v[0..n).
+template <std::size_t M>
+void median_max(std::array<double, M> v, double& median, double& max) {
+  std::sort(v.begin(), v.end());
+  median = v[M / 2];
+  max = v[M - 1];
+}
+
+void report(const char* what, double median, double max) {
+#if defined(ARBOR_BARE_METAL)
+  arbor::minitest::out() << "CONTOUR " << kFormName << " " << kScalarName << " " << what
+                         << " median " << static_cast<long long>(median) << " max "
+                         << static_cast<long long>(max) << " " << kUnit << "\n";
+  arbor::minitest::out().flush();
+#else
+  std::printf("CONTOUR %s %s %s median %.0f max %.0f %s\n", kFormName, kScalarName, what, median,
+              max, kUnit);
+#endif
+}
+
+#if !defined(ARBOR_BARE_METAL) && !defined(__aarch64__) && !defined(__arm__)
+/// Writes the trajectory for the cross builds (see the top of the file).
+void write_trajectory() {
+  char name[64];
+  std::snprintf(name, sizeof name, "contour_trajectory_%s_%s.inc", kFormName, kScalarName);
+  std::FILE* f = std::fopen(name, "w");
+  ASSERT_NE(f, nullptr) << "cannot write " << name;
+  std::fprintf(f,
+               "// written by contour_target_%s_test on the host (tests/contour/target_test.cpp)\n",
+               kScalarName);
+  std::fprintf(f, "constexpr double host_x[%d][%d] = {\n", kSamples, nx);
+  for (const Record& r : g_records) {
+    std::fprintf(f, "    {");
+    for (int i = 0; i < nx; ++i)
+      std::fprintf(f, "%s%.17g", i ? ", " : "", r.x[i]);
+    std::fprintf(f, "},\n");
+  }
+  std::fprintf(f, "};\n");
+  std::fclose(f);
+}
+#endif
+
+// Tolerances per precision. Tunnel: the controller plans inside rho - 0.1 mm (the back-off);
+// double holds rho, float (QP tolerances 1e-4 on a row of order rho^2 = 1e-4 m^2) is given
+// 0.5 mm beyond it. Trajectory against the host's: the same algorithm compiled for another
+// instruction set (FMA contraction, libm) differs in the last bits, which the closed loop
+// amplifies: 1e-6 (double), 2e-3 (float), relative to 1 + |x_i|.
+constexpr double kTunnelTol = CONTOUR_TEST_FLOAT ? 5e-4 : 1e-6;
+// Torque limits: OCP-FD applies u_0's torque, bounded exactly; OCP-ID bounds ID(q, qd, qdd) at the
+// plan's nodes, while the plant's 1 kHz computed-torque loop evaluates it along the true motion.
+constexpr double kTauTol = CONTOUR_TEST_ID ? 1e-2 : 1e-9;
+[[maybe_unused]] constexpr double kTrajectoryTol = CONTOUR_TEST_FLOAT ? 2e-3 : 1e-6;
+
+TEST(ContourTarget, ClosedLoop50Samples) {
+#if defined(ARBOR_BARE_METAL)
+  calibrate();
+  ASSERT_GT(g_insn_per_tick, 0.0);
+#endif
+  {
+    arbor::test::NoAllocScope guard;
+    const NmpcStatus st = g_loop.start();
+    ASSERT_EQ(st, NmpcStatus::converged);
+  }
+  double s_prev = 0, tau_ratio = 0;
+  for (int k = 0; k < kSamples; ++k) {
+    Record& r = g_records[std::size_t(k)];
+    {
+      arbor::test::NoAllocScope guard;
+      g_loop.sample(r);
+    }
+    ASSERT_TRUE(arbor::nmpc::succeeded(r.status)) << "sample " << k << ": " << r.status;
+    ASSERT_TRUE(r.u.allFinite()) << "sample " << k;
+    ASSERT_TRUE(r.x.allFinite()) << "sample " << k;
+    EXPECT_LE(r.e_p, rho + kTunnelTol) << "sample " << k;
+    for (int i = 0; i < nq; ++i) {
+      EXPECT_LE(r.tau_peak[i], tau_max[std::size_t(i)] * (1 + kTauTol)) << "sample " << k;
+      tau_ratio = std::max(tau_ratio, r.tau_peak[i] / tau_max[std::size_t(i)]);
+      EXPECT_LE(std::fabs(r.x[nq + i]), qd_max * (1 + 1e-3)) << "sample " << k;
+      if (std::isfinite(q_max[std::size_t(i)])) {
+        EXPECT_LE(std::fabs(r.x[i]), q_max[std::size_t(i)]) << "sample " << k;
+      }
+    }
+    EXPECT_GE(r.x[14], s_prev) << "sample " << k;
+    s_prev = r.x[14];
+    EXPECT_EQ(r.sqp_iterations, 1) << "sample " << k;
+#if ARBOR_TEST_HOST_VALUES
+    for (int i = 0; i < nx; ++i) {
+      const double h = host_x[k][i];
+      EXPECT_LE(std::fabs(r.x[i] - h), kTrajectoryTol * (1 + std::fabs(h)))
+          << "sample " << k << " state " << i << ": target " << r.x[i] << ", host " << h;
+    }
+#endif
+  }
+  // progress along the path: s follows sd_ref from rest (sd_ref(0) = 0.0515 c)
+  EXPECT_GT(s_prev, 0.01);
+
+  std::array<double, kSamples> prep{}, fb{}, both{};
+  for (int k = 0; k < kSamples; ++k) {
+    prep[std::size_t(k)] = g_records[std::size_t(k)].prepare_us;
+    fb[std::size_t(k)] = g_records[std::size_t(k)].feedback_us;
+    both[std::size_t(k)] = prep[std::size_t(k)] + fb[std::size_t(k)];
+  }
+  double med = 0, max = 0;
+  median_max(prep, med, max);
+  report("preparation", med, max);
+  median_max(fb, med, max);
+  report("feedback", med, max);
+  median_max(both, med, max);
+  report("sample", med, max);
+#if defined(ARBOR_BARE_METAL)
+  arbor::minitest::out() << "CONTOUR " << kFormName << " " << kScalarName << " max-tau/limit "
+                         << tau_ratio << " s " << s_prev << "\n";
+  arbor::minitest::out().flush();
+#else
+  std::printf("CONTOUR %s %s max-tau/limit %.6g s %.6g\n", kFormName, kScalarName, tau_ratio,
+              s_prev);
+#endif
+#if !defined(ARBOR_BARE_METAL) && !defined(__aarch64__) && !defined(__arm__)
+  write_trajectory();
+#endif
+}
+
+}  // namespace
