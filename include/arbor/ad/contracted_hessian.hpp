@@ -68,9 +68,10 @@ void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
                   "the SecondOrder provider serves InverseDynamics and ForwardDynamics");
     auto& d = f.ws->template data<T>();
     auto& so = f.ws->template second_order<T>();
-    const auto q = x.template segment<nv>(0);
-    const auto v = x.template segment<nv>(nv);
-    const auto third = x.template segment<nv>(2 * nv);  // a (ID) or tau (FD)
+    // plain vectors: the same instantiation as a direct call with vectors
+    const VecN<T, nv> q = x.template segment<nv>(0);
+    const VecN<T, nv> v = x.template segment<nv>(nv);
+    const VecN<T, nv> third = x.template segment<nv>(2 * nv);  // a (ID) or tau (FD)
     if constexpr (id) {
       rnea_second_order_derivatives<R>(d, so, q, v, third, lambda);
       y = d.tau;
