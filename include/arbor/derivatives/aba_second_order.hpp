@@ -9,17 +9,31 @@
 //           [  (Hqv + Hqa A_v)'            Hvv            0       ]
 //           [  (Hqa M^-1)'                 0              0       ].
 // Cost: aba_derivatives (one minverse, O(n d) sweeps, two n x n products), the O(n d) ID
-// second-order sweep at (q, v, ddq) reusing its placements, and 3 n^3 multiply-adds.
+// second-order sweep at (q, v, ddq) reusing its placements, and 3 n^3 multiply-adds (fewer for
+// trees where under 60% of the joint pairs are on one branch: the zeros off the branches are
+// skipped).
 #pragma once
 
 #include "arbor/derivatives/aba_derivatives.hpp"
 #include "arbor/derivatives/derivative_data.hpp"
 #include "arbor/derivatives/rnea_second_order.hpp"
 #include "arbor/derivatives/second_order_data.hpp"
+#include "arbor/model/topology.hpp"
 
 namespace arbor {
 
 namespace detail {
+
+/// True when fewer than 60% of the joint pairs lie on one branch (two arms, a humanoid): the n^3
+/// products then skip the structural zeros of d2(mu' ID)/dq da and d tau/d(q, v).
+template <class R>
+constexpr bool so_sparse_products() {
+  int on = 0;
+  for (int i = 0; i < R::nv; ++i)
+    for (int k = 0; k < R::nv; ++k)
+      on += model::on_branch<R>[i][k] ? 1 : 0;
+  return 10 * on < 6 * R::nv * R::nv;
+}
 
 /// aba_second_order_derivatives at (q, v, tau): see the file comment.
 template <class R, class Scalar, class Q, class V, class T, class L>
@@ -36,10 +50,35 @@ ARBOR_INLINE void aba_second_order_impl(Data<R, Scalar>& d, DerivativeData<R, Sc
   // data.oMi and data.J hold the placements and world columns of q: reuse them.
   rnea_second_order_impl<R, true>(d, s, q, v, d.ddq, s.mu, g);
   auto& H = s.hessian;
-  const auto Hqa = H.template block<n, n>(0, 2 * n);
-  s.C.template leftCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dq);
-  s.C.template rightCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dv);
-  s.B.noalias() = Hqa.lazyProduct(d.Minv);
+  if constexpr (so_sparse_products<R>()) {
+    // B = Hqa M^-1 = (M^-1 Haq)' with Haq = Hqa' zero off the branches; then C = Hqa [A_q, A_v]
+    // = -B [d tau/dq, d tau/dv] (A = -M^-1 d tau/d(q, v)), whose columns are zero off the
+    // branches too.
+    for (int i = 0; i < n; ++i) {
+      auto col = s.C.col(i);  // scratch: column i of M^-1 Haq
+      col.setZero();
+      for (int k = 0; k < n; ++k)
+        if (model::on_branch<R>[k][i])
+          col += d.Minv.col(k) * H(2 * n + k, i);
+    }
+    s.B = s.C.template leftCols<n>().transpose();
+    for (int c = 0; c < n; ++c) {
+      auto cq = s.C.col(c);
+      auto cv = s.C.col(n + c);
+      cq.setZero();
+      cv.setZero();
+      for (int k = 0; k < n; ++k)
+        if (model::on_branch<R>[k][c]) {
+          cq -= s.B.col(k) * dd.dtau_dq(k, c);
+          cv -= s.B.col(k) * dd.dtau_dv(k, c);
+        }
+    }
+  } else {
+    const auto Hqa = H.template block<n, n>(0, 2 * n);
+    s.C.template leftCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dq);
+    s.C.template rightCols<n>().noalias() = Hqa.lazyProduct(dd.ddq_dv);
+    s.B.noalias() = Hqa.lazyProduct(d.Minv);
+  }
   // q-q, q-v, v-q, v-v
   for (int c = 0; c < n; ++c)
     for (int r = c; r < n; ++r) {
