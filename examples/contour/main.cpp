@@ -46,11 +46,16 @@ void usage(const char* argv0) {
       "  --samples N       at most N samples of 0.02 s (default 4000)\n"
       "  --s-end S         stop when s > S (default 0.99)\n"
       "  --sqp [K]         paper's mode: full SQP per sample, at most K iterations (default 5)\n"
-      "                    and CONTOUR.md's tolerances (default: real-time iteration)\n"
+      "                    and CONTOUR.md's tolerances, scaled tunnel row (default: real-time\n"
+      "                    iteration)\n"
       "  --mismatch        plant carries 0.5 kg at the end effector (controller: nominal model)\n"
       "  --noise SIGMA     measurement noise std. dev. on q [rad] (qd: 10 SIGMA), default 0\n"
       "  --seed N          noise seed (default 1)\n"
       "  --soft-weight W   slack weight of the soft tunnel (soft builds; default 100)\n"
+      "  --scaled-tunnel   tunnel row |e_p / radius|^2 - 1 <= 0 (order one; default in RTI:\n"
+      "                    |e_p|^2 - radius^2 <= 0, of order 1e-4 m^2; --sqp sets it, since\n"
+      "                    CONTOUR.md's absolute 1e-3 primal tolerance admits |e_p| up to 33 mm\n"
+      "                    on the unscaled row)\n"
       "  --backoff B       the controller's tunnel radius is rho - B (default 1e-4 m: margin for\n"
       "                    the linearisation error of real-time iteration)\n"
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
@@ -132,6 +137,7 @@ int main(int argc, char** argv) {
       o.s_end = std::atof(value("a number"));
     } else if (a == "--sqp") {
       o.sqp = true;
+      o.scaled_tunnel = true;
       if (i + 1 < argc && argv[i + 1][0] != '-')
         o.sqp_iter = std::atoi(argv[++i]);
     } else if (a == "--mismatch") {
@@ -142,6 +148,8 @@ int main(int argc, char** argv) {
       o.seed = std::uint32_t(std::atol(value("a number")));
     } else if (a == "--soft-weight") {
       o.soft_weight = std::atof(value("a number"));
+    } else if (a == "--scaled-tunnel") {
+      o.scaled_tunnel = true;
     } else if (a == "--backoff") {
       o.backoff = std::atof(value("a number"));
     } else if (a == "--qp-tol") {

@@ -246,9 +246,10 @@ using D = ocp::Dims<nx, nu, 1, horizon>;
 /// soft_weight (else hard). The controller's tunnel radius is `radius` (rho less a back-off
 /// margin for the linearisation error of real-time iteration). `scaled`: the tunnel row is
 /// |e_p / radius|^2 - 1 <= 0 (of order one), else |e_p|^2 - radius^2 <= 0 (of order 1e-4 m^2,
-/// the default). Neither works in float yet: unscaled, the row sits at float's QP tolerance (1e-4)
-/// and the plant leaves the tunnel (13.6 mm); scaled, the first SQP solve ends in qp_failed. In
-/// double the scaled row makes the QP hit its iteration limit in 62 of 318 samples.
+/// the default in real-time iteration). The SQP mode (closed_loop.hpp) scales it: its absolute
+/// 1e-3 primal tolerance would admit |e_p| up to 33 mm on the unscaled row. In double RTI with
+/// QP tolerances of 1e-8 the scaled row made the QP hit its iteration limit in 62 of 318 samples.
+/// Float: README.md, "Float".
 template <Formulation F, class Tag, bool Soft, class W>
 auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, double radius = rho,
                   bool scaled = false) {
