@@ -1,5 +1,5 @@
 // The providers test (providers_test.cpp): one short closed loop per configuration, each compiled
-// in its own translation unit (providers_<formulation>_<provider>.cpp: a Kinova controller takes
+// in its own translation unit (providers_id_<provider>.cpp: a Kinova controller takes
 // ~2 GB of compiler memory) and returned as plain arrays.
 #pragma once
 
@@ -22,8 +22,6 @@ struct ProviderRun {
   std::array<contour::VecN<double, contour::nx>, kProviderSamples> x;
 };
 
-ProviderRun run_fd_analytical();
-ProviderRun run_fd_autodiff();
 ProviderRun run_id_analytical();
 ProviderRun run_id_autodiff();
 

@@ -1,10 +1,12 @@
-// Analytical and AD RBD derivatives in the contour NMPC give the same closed loop: OCP-FD and
-// OCP-ID (hard tunnel, double, real-time iteration) run 10 samples with each provider (the
-// Jacobians of the forward dynamics, the inverse dynamics and the frame kinematics analytically,
-// or by forward-mode AD through the RBD templates); the start solve's status and iteration count
-// must agree, every sample succeed, and the controls and plant states agree to 1e-6 relative (the
-// two providers' derivatives differ by rounding only, ~1e-12; the QP tolerance is 1e-8). This is
-// also the suite's closed-loop run of OCP-ID (target_test.cpp runs OCP-FD).
+// Analytical and AD RBD derivatives in the contour NMPC give the same closed loop: OCP-ID (hard
+// tunnel, double, real-time iteration) runs 10 samples with each provider (the Jacobians of the
+// inverse dynamics and the frame kinematics analytically, or by forward-mode AD through the RBD
+// templates); the start solve's status and iteration count must agree, every sample succeed, and
+// the controls and plant states agree to 1e-6 relative (the two providers' derivatives differ by
+// rounding only, ~1e-12; the QP tolerance is 1e-8). This is also the suite's closed-loop run of
+// OCP-ID (target_test.cpp runs OCP-FD). An OCP-FD pair passed too (2026-12-02, commit b46b0a9)
+// but is not built in the suite (compile time: two more ~2 GB units); the forward dynamics'
+// analytical and AD Jacobians are compared directly in tests/ad.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,10 +38,6 @@ void expect_same(const ProviderRun& a, const ProviderRun& ad) {
   }
   // the loop moves: s advances
   EXPECT_GT(a.x.back()[14], a.x.front()[14]);
-}
-
-TEST(ContourProviders, OcpFdAnalyticalEqualsAutoDiff) {
-  expect_same(contour_test::run_fd_analytical(), contour_test::run_fd_autodiff());
 }
 
 TEST(ContourProviders, OcpIdAnalyticalEqualsAutoDiff) {
