@@ -26,6 +26,7 @@
 
 #if defined(ARBOR_BARE_METAL)
 #include "arbor_target.h"
+#include "bench_util.hpp"  // bench/targets: instructions per SysTick tick, calibrated
 #else
 #include <cstdio>
 #endif
@@ -61,28 +62,13 @@ static_assert(sizeof(host_x) / sizeof(host_x[0]) == kSamples, "host trajectory o
 #endif
 
 #if defined(ARBOR_BARE_METAL)
-/// Spins n iterations of two instructions (subs + bne): a loop of known instruction count.
-__attribute__((noinline)) void spin(std::uint32_t n) {
-  __asm volatile(
-      "1: subs %0, %0, #1 \n"
-      "   bne 1b          \n"
-      : "+r"(n)
-      :
-      : "cc");
-}
-/// Instructions per SysTick tick under -icount (0 before calibrate()).
-double g_insn_per_tick = 0;
-void calibrate() {
-  arbor_ticks_start();
-  const std::uint64_t t0 = arbor_ticks();
-  spin(2000000);  // 4e6 instructions
-  g_insn_per_tick = 4e6 / double(arbor_ticks() - t0);
-}
 /// Counts instructions (SysTick ticks x the calibration).
 struct InstructionTimer {
   using Stamp = std::uint64_t;
   static Stamp now() { return arbor_ticks(); }
-  static double elapsed(Stamp from, Stamp to) { return double(to - from) * g_insn_per_tick; }
+  static double elapsed(Stamp from, Stamp to) {
+    return double((to - from) * arbor::bench::insn_per_tick());
+  }
 };
 using Timer = InstructionTimer;
 constexpr const char* kUnit = "instructions";
@@ -155,8 +141,8 @@ constexpr double kTauTol = CONTOUR_TEST_ID ? 1e-2 : 1e-9;
 
 TEST(ContourTarget, ClosedLoop50Samples) {
 #if defined(ARBOR_BARE_METAL)
-  calibrate();
-  ASSERT_GT(g_insn_per_tick, 0.0);
+  arbor::bench::calibrate();
+  ASSERT_GT(arbor::bench::insn_per_tick(), 0u);
 #endif
   {
     arbor::test::NoAllocScope guard;
