@@ -13,7 +13,9 @@
 // - Each iteration evaluates the residuals and makes at most ONE working-set change: a pending
 //   change from the last ratio test, else, if the (scaled) primal error dominates, the most
 //   violated constraint is added on its violated side, else the active constraint whose
-//   multiplier has the most wrong sign is dropped.
+//   multiplier has the most wrong sign is dropped. Violations and multipliers are compared per
+//   constraint: row i's violation is divided by |a_i|, its multiplier multiplied by |a_i| (the
+//   same quantities for any scaling of the row), against the thresholds of the termination test.
 // - The step goes to the solution of the equality-constrained QP of the working set, with a
 //   proximal regularisation centred at the current iterate (delta = reg_primal on x,
 //   epsilon = reg_dual on the active multipliers):
@@ -29,23 +31,47 @@
 //   on an unchanged working set reuse the factorization and act as iterative refinement.
 // - When the primal error stalls on an unchanged working set (a nearly inconsistent one), the
 //   multipliers are moved along their step to the first active one that reaches zero, which is
-//   dropped (QRQP's singular step in multiplier space).
+//   dropped (QRQP's singular step in multiplier space). Anti-cycling: the last kDropMemory
+//   constraints dropped this way are remembered; a constraint that comes back and would be
+//   dropped again is kept (the error stalls at round-off, not on an inconsistent set), and the
+//   refusal is counted in SolveInfo::cycling_refusals. (Without it, the float Kinova-sized
+//   benchmark problem dropped and re-added the same three bounds until the iteration cap.)
 // - Ratio test on tau in [0, 1]: inactive constraints may not cross their bound by more than
-//   max(tol_primal, current max violation) (primal blocking -> pending add), active multipliers
-//   of the right sign may not cross zero (dual break point -> pending drop).
-// - Termination by an explicit check on the original data: primal feasibility, stationarity and
-//   complementarity (min(|lam_i|, distance to its bound)), with tolerances relative to the data
-//   scale (settings.hpp). A Farkas certificate (y = lam/|lam|
-//   with A' y ~ 0 and negative support of the bounds) on three consecutive iterates gives
-//   `infeasible` (an inconsistent working set makes lam grow like 1/epsilon); a full step along a
-//   zero-curvature descent direction that no constraint blocks gives `unbounded`; the iteration
-//   cap returns the best iterate seen, with its residuals.
-// Memory of this part: about 11 NV + 8 NA scalars and NV + NA bytes. Cost per iteration: O(NV +
-// NA) here plus one backend solve, and a (partial) refactorization after a working-set change.
+//   |a_i| max(tol_primal * scale, current max per-constraint violation) (primal blocking ->
+//   pending add), active multipliers of the right sign may not cross zero (dual break point ->
+//   pending drop).
+// - Termination by an explicit check on the original data, judged per constraint:
+//     primal     max_i violation_i / |a_i|                 <= tol_primal * pscale,
+//     dual       max_j |(H x + g + lam_x + A' lam)_j|     <= tol_dual * dscale,
+//     compl.     max_i min(|lam_i| |a_i|, dist_i / |a_i|)  <= tol_comp * pscale,
+//   with pscale = 1 + max(|x|_inf, max_i |z_i| / |a_i|) and dscale = 1 + the largest term of
+//   the stationarity sum, dist_i the distance of z_i to the bound lam_i's sign selects. Scaling
+//   a row changes none of these (stationarity contains a_i lam_i only), so `solved` is never
+//   returned at a point that violates a row relative to its own size. SolveInfo reports the
+//   residuals as the data state them (unnormalised).
+// - Infeasibility: every step's multiplier change y = dlam is tested as a Farkas certificate:
+//   with y normalised (sum |y_i| |a_i| = 1), entries on a side with an infinite bound left out,
+//   e = y_x + A' y_a and sigma = sum_{y_i>0} ub_i y_i + sum_{y_i<0} lb_i y_i, every x has
+//   y'z = e'x and every feasible x has y'z <= sigma; with bscale the largest |bound_i| / |a_i|
+//   involved, sigma < -10 tol_primal (1 + bscale) and |e|_1 (1 + bscale) <= tol_certificate
+//   |sigma| prove that no point within (1 + bscale) / tol_certificate is feasible (scales of the
+//   data, not of the iterate, which a long step along a free direction may have inflated). On an
+//   inconsistent working set dlam settles on such a direction within a few iterations whatever the
+//   size of H or of the rows (the multipliers themselves, which the former test used, turn slowly
+//   when the cost is large). Two consecutive certificates give `infeasible`.
+// - A full step along a zero-curvature descent direction that no constraint blocks gives
+//   `unbounded`. kStallIterations iterations without a working-set change in which the merit
+//   (largest residual / tolerance) does not fall by 10 % give `stalled`: the rule has nothing
+//   left to change although the test fails (tolerances below the round-off floor, or mutually
+//   inconsistent ones). `stalled` and the iteration cap return the best iterate seen, with its
+//   residuals.
+// Memory of this part: about 12 NV + 9 NA scalars and NV + NA bytes. Cost per iteration: O(NV +
+// NA) here plus one backend solve (and one product with A' while the iterate is infeasible, for
+// the certificate), and a (partial) refactorization after a working-set change.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
 // the steps below in this order, each a member function: begin() once, then per iteration
 // evaluate(), converged_or_stopped(), change_working_set(), refactorize(), compute_step(),
-// ratio_test(), singular_dual_step(), take_step(); finish() once.
+// ratio_test(), singular_dual_step(), farkas_step(), take_step(); finish() once.
 #pragma once
 
 #include <Eigen/Core>
@@ -107,6 +133,10 @@ class ActiveSetCore {
       compute_step(be);
       const Scalar tau = ratio_test(s);
       const Scalar tau_dual = singular_dual_step(s, tau, changed);
+      if (farkas_step(be, s))
+        ++certificate_count_;
+      else
+        certificate_count_ = 0;
       take_step(be, s, tau, tau_dual, changed);
     }
     return finish(be, s, info, status);
@@ -116,6 +146,10 @@ class ActiveSetCore {
   using State = ConstraintState;
   static constexpr Scalar inf() { return std::numeric_limits<Scalar>::infinity(); }
   static Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
+  /// Iterations on an unchanged working set without a 10 % fall of the merit before `stalled`.
+  static constexpr int kStallIterations = 10;
+  /// Singular-step drops remembered by the anti-cycling rule.
+  static constexpr int kDropMemory = 8;
 
   Scalar lb(int i) const { return i < NV ? lbx(i) : lba(i - NV); }
   Scalar ub(int i) const { return i < NV ? ubx(i) : uba(i - NV); }
@@ -124,10 +158,22 @@ class ActiveSetCore {
   Scalar& lam(int i) { return i < NV ? lam_x(i) : lam_a(i - NV); }
   Scalar lam(int i) const { return i < NV ? lam_x(i) : lam_a(i - NV); }
   Scalar dlam(int i) const { return i < NV ? dlam_x_(i) : dlam_a_(i - NV); }
+  /// Norm of constraint i's row (1 for a bound): divides its violation and multiplies its
+  /// multiplier, so that every test is invariant to scaling a row.
+  Scalar rnorm(int i) const { return i < NV ? Scalar(1) : rn_(i - NV); }
   /// Target value of an active constraint.
   Scalar target(int i) const { return ws[i] == State::lower ? lb(i) : ub(i); }
   /// Active on one side (not inactive, not an equality).
   bool one_sided(int i) const { return ws[i] == State::upper || ws[i] == State::lower; }
+  /// Largest ratio residual / tolerance of the last evaluate() (<= 1: solved).
+  Scalar merit_of(const QpSettings<Scalar>& s) const {
+    return std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
+                    co_ / (s.tol_comp * pr_scale_));
+  }
+  /// Threshold above which a wrong-sign multiplier (per constraint) fails the termination test.
+  Scalar drop_threshold(const QpSettings<Scalar>& s) const {
+    return std::min(s.tol_dual * du_scale_, s.tol_comp * pr_scale_);
+  }
 
   // ---- the steps of solve()
   /// Repairs a non-finite iterate, builds the working set and the row weights, resets the loop.
@@ -163,19 +209,24 @@ class ActiveSetCore {
   template <typename Backend>
   QpStatus finish(const Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
                   QpStatus status);
-  bool infeasibility_certificate(const QpSettings<Scalar>& s) const;
+  /// True when the multiplier step (dlam) is a Farkas certificate of infeasibility.
+  template <typename Backend>
+  bool farkas_step(const Backend& be, const QpSettings<Scalar>& s);
   template <typename Backend>
   bool unboundedness_certificate(const Backend& be, const QpSettings<Scalar>& s);
 
   // residuals of the last evaluate()
-  Scalar pr_ = 0;        ///< max violation
+  // (per constraint: a violation is divided by the row's norm, a multiplier multiplied by it)
+  Scalar pr_ = 0;        ///< max violation, per constraint (row norm 1)
   Scalar du_ = 0;        ///< max |stationarity residual|
-  Scalar co_ = 0;        ///< complementarity residual
-  Scalar pr_scale_ = 1;  ///< 1 + |z|_inf (scale of the primal and complementarity tolerances)
+  Scalar co_ = 0;        ///< complementarity residual, per constraint
+  Scalar pr_abs_ = 0;    ///< max violation as the data state it (reported)
+  Scalar co_abs_ = 0;    ///< complementarity residual as the data state it (reported)
+  Scalar pr_scale_ = 1;  ///< 1 + max(|x|_inf, |z_i| / |a_i|): scale of primal and compl. tol.
   Scalar du_scale_ = 1;  ///< 1 + largest term of H x + g + A' lam (scale of the dual one)
-  Scalar sd_ = 0;        ///< max wrong-sign multiplier on the working set
+  Scalar sd_ = 0;        ///< max wrong-sign multiplier on the working set, per constraint
   int isd_ = -1;         ///< its index
-  Scalar pc_ = 0;        ///< max violation among constraints that are not active on that side
+  Scalar pc_ = 0;        ///< max violation among constraints not active on that side (per c.)
   int ipc_ = -1;         ///< its index
   State spc_ = State::inactive;  ///< the violated side
 
@@ -188,9 +239,14 @@ class ActiveSetCore {
   Scalar best_ = 0;                     ///< best merit so far
   bool have_best_ = false;              ///< best_x_ etc. hold an iterate
   bool unbounded_candidate_ = false;    ///< the last step was an unbounded-direction candidate
-  int certificate_count_ = 0;           ///< consecutive iterates with a Farkas certificate
-  bool refining_ = false;               ///< the previous iteration left the working set unchanged
-  Scalar pr_prev_ = 0;                  ///< primal error of the previous iteration
+  int certificate_count_ = 0;           ///< consecutive steps with a Farkas certificate
+  int stall_count_ = 0;                 ///< iterations without a change and without progress
+  Scalar stall_ref_ = 0;                ///< merit at the last change or progress
+  std::array<int, kDropMemory> singular_drops_{};  ///< last constraints the singular step dropped
+  int next_drop_ = 0;                              ///< ring position in singular_drops_
+  int cycles_ = 0;                                 ///< repeated singular drops refused
+  bool refining_ = false;  ///< the previous iteration left the working set unchanged
+  Scalar pr_prev_ = 0;     ///< primal error of the previous iteration
 
   VecA za_;          ///< A x
   VecV hx_;          ///< H x
@@ -201,6 +257,8 @@ class ActiveSetCore {
   VecA dlam_a_;      ///< row-multiplier step
   VecA tmpa_;        ///< row workspace
   VecA wa_;          ///< regularisation weight of each row, 1 / (eps |a_j|^2)
+  VecA rn_;          ///< row norms |a_j| (1 for a zero row)
+  VecV tmpv_;        ///< variable workspace (certificates)
   VecV best_x_;      ///< best iterate so far
   VecV best_lam_x_;  ///< its bound multipliers
   VecA best_lam_a_;  ///< its row multipliers
@@ -228,8 +286,10 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   // row weights 1 / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
   // small coefficients (a linearised path constraint) converge as fast as bounds
   be.row_norms_sq(wa_);
-  for (int j = 0; j < NA; ++j)
+  for (int j = 0; j < NA; ++j) {
+    rn_(j) = wa_(j) > 0 ? std::sqrt(wa_(j)) : Scalar(1);
     wa_(j) = wa_(j) > 0 ? w_ / wa_(j) : w_;
+  }
   refactor_ = true;
   be.mark_all();
   pending_ = -1;
@@ -238,6 +298,11 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   have_best_ = false;
   unbounded_candidate_ = false;
   certificate_count_ = 0;
+  stall_count_ = 0;
+  stall_ref_ = inf();
+  singular_drops_.fill(-1);
+  next_drop_ = 0;
+  cycles_ = 0;
   refining_ = false;
   pr_prev_ = inf();
 }
@@ -277,8 +342,16 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
     du_scale_ = std::max(du_scale_, std::abs(r_(i) - hx_(i) - g(i)));
   }
   pr_scale_ = Scalar(1);
+  for (int i = 0; i < nz; ++i) {
+    const Scalar az = std::abs(zval(i)) / rnorm(i);
+    if (az > pr_scale_ && az < inf())
+      pr_scale_ = az;
+  }
+  pr_scale_ += Scalar(1);
   pr_ = 0;
   co_ = 0;
+  pr_abs_ = 0;
+  co_abs_ = 0;
   sd_ = 0;
   isd_ = -1;
   pc_ = 0;
@@ -288,11 +361,15 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
     const Scalar z = zval(i), l = lb(i), u = ub(i), m = lam(i);
     if (!std::isfinite(z) || !std::isfinite(m)) {
       pr_ = inf();
+      pr_abs_ = inf();
       continue;
     }
-    pr_scale_ = std::max(pr_scale_, std::abs(z));
+    const Scalar n = rnorm(i);
     const Scalar vl = l - z, vu = z - u;
-    const Scalar v = vl > vu ? vl : vu;
+    const Scalar va = vl > vu ? vl : vu;
+    if (va > pr_abs_)
+      pr_abs_ = va;
+    const Scalar v = va / n;
     if (v > pr_)
       pr_ = v;
     if (v > 0) {
@@ -308,11 +385,14 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
           m > 0 ? (u < inf() ? std::abs(u - z) : inf()) : (l > -inf() ? std::abs(z - l) : inf());
       const Scalar am = std::abs(m);
       const Scalar c = am < dist ? am : dist;
-      if (c > co_)
-        co_ = c;
+      if (c > co_abs_)
+        co_abs_ = c;
+      const Scalar cn = std::min(am * n, dist / n);
+      if (cn > co_)
+        co_ = cn;
     }
     if (one_sided(i)) {
-      const Scalar wrong = -m * side_sign<Scalar>(ws[i]);
+      const Scalar wrong = -m * side_sign<Scalar>(ws[i]) * n;
       if (wrong > sd_) {
         sd_ = wrong;
         isd_ = i;
@@ -328,9 +408,7 @@ bool ActiveSetCore<Scalar, NV, NA>::converged_or_stopped(const QpSettings<Scalar
     status = QpStatus::non_finite;
     return true;
   }
-  const Scalar merit =
-      std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
-               co_ / (s.tol_comp * pr_scale_));
+  const Scalar merit = merit_of(s);
   if (merit < best_) {
     best_ = merit;
     have_best_ = true;
@@ -342,15 +420,25 @@ bool ActiveSetCore<Scalar, NV, NA>::converged_or_stopped(const QpSettings<Scalar
     status = QpStatus::solved;
     return true;
   }
+  // (feasibility of an unbounded candidate is judged without the scale, which its long step
+  // has inflated)
   if (unbounded_candidate_ && pr_ <= s.tol_primal) {
     status = QpStatus::unbounded;
     return true;
   }
   unbounded_candidate_ = false;
-  // a certificate that holds on several consecutive iterates (transients do not count)
-  certificate_count_ = infeasibility_certificate(s) ? certificate_count_ + 1 : 0;
-  if (certificate_count_ >= 3) {
+  // a Farkas certificate on consecutive steps (a single step could be a transient)
+  if (certificate_count_ >= 2) {
     status = QpStatus::infeasible;
+    return true;
+  }
+  // no working-set change and no progress: the rule has nothing left to change although the
+  // termination test fails (round-off floor above the tolerances, or inconsistent tolerances)
+  if (!refining_ || merit < Scalar(0.9) * stall_ref_) {
+    stall_ref_ = merit;
+    stall_count_ = 0;
+  } else if (++stall_count_ >= kStallIterations) {
+    status = QpStatus::stalled;
     return true;
   }
   return it >= s.max_iter;  // status stays iteration_limit
@@ -367,10 +455,11 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
   if (pending_ >= 0) {
     change = pending_;
     change_ws = pending_ws_;
-  } else if (ipc_ >= 0 && pc_ > s.tol_primal && pc_ / s.tol_primal >= sd_ / s.tol_dual) {
+  } else if (ipc_ >= 0 && pc_ > s.tol_primal * pr_scale_ &&
+             pc_ / (s.tol_primal * pr_scale_) >= sd_ / drop_threshold(s)) {
     change = ipc_;
     change_ws = spc_;
-  } else if (isd_ >= 0 && sd_ > s.tol_dual) {
+  } else if (isd_ >= 0 && sd_ > drop_threshold(s)) {
     change = isd_;
     change_ws = State::inactive;
   }
@@ -443,10 +532,11 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
 template <typename Scalar, int NV, int NA>
 Scalar ActiveSetCore<Scalar, NV, NA>::ratio_test(const QpSettings<Scalar>& s) {
   Scalar tau = 1;
-  const Scalar e = std::max(s.tol_primal, pr_);
+  const Scalar en = std::max(s.tol_primal * pr_scale_, pr_);  // per constraint
   for (int i = 0; i < nz; ++i) {
     const Scalar dz = dzval(i);
     if (ws[i] == State::inactive) {
+      const Scalar e = en * rnorm(i);
       if (dz > 0 && ub(i) < inf()) {
         const Scalar t = std::max(Scalar(0), ub(i) + e - zval(i)) / dz;
         if (t < tau) {
@@ -486,7 +576,7 @@ Scalar ActiveSetCore<Scalar, NV, NA>::singular_dual_step(const QpSettings<Scalar
   // along a null-space direction of A_W'. Follow that direction to the first active multiplier
   // that reaches zero and drop its constraint (QRQP's singular step, in multiplier space).
   Scalar tau_dual = tau;
-  if (tau == Scalar(1) && pending_ < 0 && !changed && refining_ && pr_ > s.tol_primal &&
+  if (tau == Scalar(1) && pending_ < 0 && !changed && refining_ && pr_ > s.tol_primal * pr_scale_ &&
       pr_ > Scalar(0.5) * pr_prev_) {
     Scalar tmin = inf();
     for (int i = 0; i < nz; ++i) {
@@ -500,8 +590,20 @@ Scalar ActiveSetCore<Scalar, NV, NA>::singular_dual_step(const QpSettings<Scalar
         pending_ws_ = State::inactive;
       }
     }
-    if (pending_ >= 0)
+    // anti-cycling: a constraint this rule dropped before and that came back (the primal error
+    // then stalls at round-off, not on an inconsistent working set) is not dropped again; the
+    // iteration goes on refining, and ends `stalled` if that makes no progress
+    bool repeated = false;
+    for (int k = 0; k < kDropMemory; ++k)
+      repeated = repeated || (pending_ >= 0 && singular_drops_[k] == pending_);
+    if (repeated) {
+      pending_ = -1;
+      ++cycles_;
+    } else if (pending_ >= 0) {
+      singular_drops_[next_drop_] = pending_;
+      next_drop_ = (next_drop_ + 1) % kDropMemory;
       tau_dual = tmin > tau ? tmin : tau;
+    }
   }
   return tau_dual;
 }
@@ -528,7 +630,7 @@ template <typename Backend>
 QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettings<Scalar>& s,
                                                SolveInfo<Scalar>& info, QpStatus status) {
   if (status != QpStatus::solved && status != QpStatus::infeasible &&
-      status != QpStatus::unbounded && have_best_) {
+      status != QpStatus::unbounded && have_best_) {  // iteration_limit, stalled, ...
     x = best_x_;
     lam_x = best_lam_x_;
     lam_a = best_lam_a_;
@@ -536,50 +638,63 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettin
     evaluate(be);
   }
   // explicit final check on the original data (residuals of the returned iterate)
-  info.primal_residual = pr_;
+  info.primal_residual = pr_abs_;
   info.dual_residual = du_;
-  info.complementarity = co_;
+  info.complementarity = co_abs_;
   info.objective = Scalar(0.5) * x.dot(hx_) + g.dot(x);
   int na_ws = 0;
   for (int i = 0; i < nz; ++i)
     na_ws += ws[i] != State::inactive ? 1 : 0;
   info.active_constraints = na_ws;
-  if (status == QpStatus::solved &&
-      !(pr_ <= s.tol_primal * pr_scale_ && du_ <= s.tol_dual * du_scale_ &&
-        co_ <= s.tol_comp * pr_scale_)) {
+  info.cycling_refusals = cycles_;
+  if (status == QpStatus::solved && !(merit_of(s) <= 1))
     status = QpStatus::iteration_limit;
-  }
   return status;
 }
 
 template <typename Scalar, int NV, int NA>
-bool ActiveSetCore<Scalar, NV, NA>::infeasibility_certificate(const QpSettings<Scalar>& s) const {
-  // y = lam / |lam|_inf; A' y + y_x = (r - H x - g) / |lam|_inf.
-  Scalar nl = 0;
-  for (int i = 0; i < nz; ++i)
-    nl = std::max(nl, std::abs(lam(i)));
-  if (!(nl > 0) || !std::isfinite(nl))
-    return false;
-  Scalar cert = 0;
-  for (int i = 0; i < NV; ++i)
-    cert = std::max(cert, std::abs(r_(i) - hx_(i) - g(i)));
-  cert /= nl;
-  if (cert > s.tol_certificate)
-    return false;
-  Scalar sigma = 0;
+template <typename Backend>
+bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSettings<Scalar>& s) {
+  // y = dlam (the direction in which the multipliers move; on an inconsistent working set they
+  // grow along a null vector of [I A']). Entries whose side has an infinite bound are left out.
+  // For every x: y'z = e'x with e = y_x + A' y_a, and for a feasible x: y'z <= sigma =
+  // sum_{y_i > 0} ub_i y_i + sum_{y_i < 0} lb_i y_i. With y normalised per constraint
+  // (sum |y_i| |a_i| = 1), -sigma is a lower bound on the largest per-constraint violation of
+  // any x with e'x = 0, so sigma < 0 with |e|_1 |x| negligible proves that no point within
+  // 1 / tol_certificate times the iterate's scale is feasible. Scale-invariant (rows, cost).
+  if (!(pr_ > s.tol_primal))
+    return false;  // the iterate is feasible: no certificate to look for
+  Scalar ny = 0, sigma = 0, bscale = 1;
   for (int i = 0; i < nz; ++i) {
-    const Scalar m = lam(i) / nl;
-    if (m > 0) {
-      if (!(ub(i) < inf()))
-        return false;
-      sigma += ub(i) * m;
-    } else if (m < 0) {
-      if (!(lb(i) > -inf()))
-        return false;
-      sigma += lb(i) * m;
+    Scalar y = dlam(i);
+    if ((y > 0 && !(ub(i) < inf())) || (y < 0 && !(lb(i) > -inf())) || !std::isfinite(y))
+      y = 0;
+    if (i >= NV)
+      tmpa_(i - NV) = y;
+    if (y != 0) {
+      const Scalar b = y > 0 ? ub(i) : lb(i);
+      ny += std::abs(y) * rnorm(i);
+      sigma += y * b;
+      bscale = std::max(bscale, std::abs(b) / rnorm(i));
     }
   }
-  return sigma < -Scalar(10) * (s.tol_primal + s.tol_certificate);
+  if (!(ny > 0) || !std::isfinite(ny) || !std::isfinite(sigma))
+    return false;
+  sigma /= ny;
+  // the violation it proves, against the primal tolerance on the scale of the bounds involved
+  // (not of the iterate, which a long step along a free direction may have inflated)
+  if (!(sigma < -Scalar(10) * s.tol_primal * (Scalar(1) + bscale)))
+    return false;
+  // e = A' y_a + y_x, accumulated in tmpv_ (y_x is cleaned again entry by entry)
+  be.cons_tmul(tmpa_, tmpv_);
+  Scalar e1 = 0;
+  for (int i = 0; i < NV; ++i) {
+    Scalar y = dlam_x_(i);
+    if ((y > 0 && !(ub(i) < inf())) || (y < 0 && !(lb(i) > -inf())) || !std::isfinite(y))
+      y = 0;
+    e1 += std::abs(tmpv_(i) + y);
+  }
+  return e1 / ny * (Scalar(1) + bscale) <= s.tol_certificate * -sigma;
 }
 
 template <typename Scalar, int NV, int NA>
@@ -592,13 +707,13 @@ bool ActiveSetCore<Scalar, NV, NA>::unboundedness_certificate(const Backend& be,
     return false;
   const Scalar tol = s.tol_certificate;
   for (int i = 0; i < nz; ++i) {
-    const Scalar d = dzval(i) / nd;
+    const Scalar d = dzval(i) / (nd * rnorm(i));
     if (ub(i) < inf() && d > tol)
       return false;
     if (lb(i) > -inf() && d < -tol)
       return false;
   }
-  VecV& hd = dlam_x_;  // reused as workspace: the step has been applied already
+  VecV& hd = tmpv_;
   be.hess_mul(dx_, hd);
   if (hd.cwiseAbs().maxCoeff() / nd > tol * (Scalar(1) + hx_.cwiseAbs().maxCoeff()))
     return false;

@@ -1,15 +1,18 @@
 // arbor::qp: solver settings with defaults per scalar type (double, float), and whether
 // setup()/update() check convexity (Convexity).
 //
-// Tolerances are relative: a residual passes when it is below tol * (1 + scale), with scale
-// |z|_inf = max(|x|_inf, |A x|_inf) for the primal and complementarity residuals and the largest
-// of |H x|_inf, |g|_inf, |A' lam + lam_x|_inf for the dual one (cancellation in float makes
-// absolute tolerances unreachable on data of magnitude 10-100). reg_primal (delta) and reg_dual
-// (epsilon) are the proximal regularisations of every linear solve (see active_set.hpp): delta > 0
-// makes zero-curvature directions (a path parameter without cost, an LP) solvable and turns them
-// into long steps that the ratio test cuts at the first blocking constraint; epsilon > 0 keeps
-// dependent active constraints solvable. Neither changes the solution: both are centred at the
-// current iterate.
+// Tolerances are relative and judged per constraint (active_set.hpp): a row's violation is
+// divided by its norm |a_i| and its multiplier multiplied by it, so scaling a row changes no test;
+// a residual passes when it is below tol * (1 + scale), with scale max(|x|_inf, |z_i| / |a_i|)
+// for the primal and complementarity residuals and the largest of |H x|_inf, |g|_inf,
+// |A' lam + lam_x|_inf for the dual one (cancellation in float makes absolute tolerances
+// unreachable on data of magnitude 10-100). tol_certificate: a Farkas certificate must prove
+// that no point within 1 / tol_certificate times that scale is feasible. reg_primal (delta) and
+// reg_dual (epsilon) are the proximal regularisations of every linear solve (see active_set.hpp):
+// delta > 0 makes zero-curvature directions (a path parameter without cost, an LP) solvable and
+// turns them into long steps that the ratio test cuts at the first blocking constraint; epsilon > 0
+// keeps dependent active constraints solvable. Neither changes the solution: both are centred at
+// the current iterate.
 #pragma once
 
 namespace arbor::qp {

@@ -22,6 +22,7 @@ enum class QpStatus : unsigned char {
   non_finite,       ///< NaN or infinite data (or iterate); bounds may be +-inf, never NaN
   invalid_bounds,   ///< some lower bound is above its upper bound, or lb = +inf / ub = -inf
   not_setup,        ///< solve() when the last setup()/update() was not accepted (or none ran)
+  stalled,  ///< no working-set change left and no progress (best iterate and residuals returned)
 };
 
 /// Short lowercase name of a status, for logs and test messages.
@@ -45,6 +46,8 @@ constexpr const char* to_string(QpStatus s) {
       return "invalid_bounds";
     case QpStatus::not_setup:
       return "not_setup";
+    case QpStatus::stalled:
+      return "stalled";
   }
   return "unknown";
 }
@@ -63,6 +66,7 @@ struct SolveInfo {
   Scalar complementarity = 0;    ///< max min(|lam_i|, distance to the selected bound)
   Scalar objective = 0;          ///< 1/2 x'Hx + g'x at the returned iterate
   int active_constraints = 0;    ///< size of the final working set (equalities included)
+  int cycling_refusals = 0;      ///< drops refused by the anti-cycling rule (active_set.hpp)
 };
 
 }  // namespace arbor::qp
