@@ -40,6 +40,11 @@ struct LetEnv {
   static constexpr int offset() {
     return Parent::template offset<Id>();
   }
+  /// Argument Id's derivatives are its seeds (as the parent's).
+  template <int Id>
+  static constexpr bool unit_seeds() {
+    return Parent::template unit_seeds<Id>();
+  }
   /// Value of argument Id.
   template <int Id>
   const auto& arg() const {

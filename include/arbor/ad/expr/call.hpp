@@ -19,17 +19,24 @@
 //
 // Cost. At a plain scalar the node calls f.value once. At S = Dual<T, K> it calls
 // f.value_and_jacobian<Tag, T> once (value and Jacobian from the same pass) and applies the
-// chain rule, out.d[k] = J x.d[k] (K nout nin products). When the input is made of arguments
-// directly (call<Tag>(f, q, v, tau)) their seeds are unit vectors known at compile time and the
-// chain rule is a copy of J's columns (summed for an argument used twice): the node's Jacobian
-// costs exactly the provider. Because T may itself be a Dual, the same node gives Hessians: with
-// the RBD function objects, Tag Analytical runs the analytical first-order routine in Dual
-// arithmetic (the paper's H^a), AutoDiff runs nested duals through the RBD templates (H^c).
+// chain rule, out.d[k] = J x.d[k] (K nout nin products). Parts of the input that are arguments
+// directly, or segments of them (call<Tag>(f, q, v, tau)), have unit seeds known at compile time:
+// their share of the chain rule is a copy of J's columns (summed for an argument used twice), so
+// with only such parts the node's Jacobian costs exactly the provider; the other parts (e.g. the
+// substituted state of an RK4 stage, ocp/rk4.hpp) cost K nout products per column. An input made
+// of arguments and segments of them is read in place (no stacked copy). Because T may itself be a
+// Dual, the same node gives Hessians: with the RBD function objects, Tag Analytical runs the
+// analytical first-order routine in Dual arithmetic (the paper's H^a), AutoDiff runs nested duals
+// through the RBD templates (H^c).
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <concepts>
+#include <cstddef>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 
 #include "arbor/ad/dual.hpp"
 #include "arbor/ad/expr/blocks.hpp"
@@ -40,33 +47,131 @@
 namespace arbor::ad {
 
 namespace detail {
-/// True for a Symbol, or a concatenation of Symbols (the argument of a call node made of
-/// arguments directly).
-template <class A>
-inline constexpr bool is_symbol_stack_v = false;
-template <int Id, int N>
-inline constexpr bool is_symbol_stack_v<Symbol<Id, N>> = true;
-template <class... P>
-inline constexpr bool is_symbol_stack_v<CatExpr<P...>> = (is_symbol_stack_v<P> && ...);
+/// Whether argument Id's outer-level derivatives in Env are its unit seeds (or zero, for a
+/// parameter): Env::unit_seeds<Id>() where the environment says so per argument, else
+/// Env::seeded.
+template <class Env, int Id>
+constexpr bool unit_seeds() {
+  if constexpr (requires { Env::template unit_seeds<Id>(); })
+    return Env::template unit_seeds<Id>();
+  else
+    return Env::seeded;
+}
 
-/// out[i].d[offset(Id) + j] += J(i, col + j) for a symbol part starting at column col.
-template <class Env, int Id, int N, class S, int M, class JM>
-void scatter_symbol(Values<S, M>& out, const JM& J, int col) {
-  constexpr int off = Env::template offset<Id>();
-  if constexpr (off >= 0) {
-    for (int i = 0; i < M; ++i)
-      for (int j = 0; j < N; ++j)
-        out[i].d[off + j] += J(i, col + j);
+/// A part of a call node's input: a symbol or a segment of one (whose derivatives may be unit
+/// seeds, known at compile time), or anything else (general derivatives).
+template <class P>
+struct CallPart {
+  static constexpr int id = -1;    ///< argument Id (-1: not a symbol)
+  static constexpr int start = 0;  ///< first element of the argument
+};
+template <int Id, int N>
+struct CallPart<Symbol<Id, N>> {
+  static constexpr int id = Id;
+  static constexpr int start = 0;
+};
+template <int St, int L, int Id, int N>
+struct CallPart<SegmentExpr<St, L, Symbol<Id, N>>> {
+  static constexpr int id = Id;
+  static constexpr int start = St;
+};
+
+/// The parts of a call node's input (a cat's operands, or the input itself).
+template <class A>
+struct CallParts {
+  using type = std::tuple<A>;
+};
+template <class... P>
+struct CallParts<CatExpr<P...>> {
+  using type = std::tuple<P...>;
+};
+
+/// True when part P's derivatives in Env are unit seeds (a symbol, or a segment of one, of an
+/// argument the environment seeds).
+template <class Env, class P>
+constexpr bool part_is_seeded() {
+  if constexpr (CallPart<P>::id < 0)
+    return false;
+  else
+    return unit_seeds<Env, CallPart<P>::id>();
+}
+
+/// The columns of a call node's input whose derivatives are general (parts that are not seeded
+/// symbols), in order, and their number.
+template <class Env, class A>
+constexpr std::pair<std::array<int, std::size_t(A::rows)>, int> general_columns() {
+  using Parts = typename CallParts<A>::type;
+  std::array<int, std::size_t(A::rows)> cols{};
+  int n = 0, col = 0;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    auto one = [&](auto part) {
+      using P = typename decltype(part)::type;
+      if constexpr (!part_is_seeded<Env, P>())
+        for (int j = 0; j < P::rows; ++j)
+          cols[std::size_t(n++)] = col + j;
+      col += P::rows;
+    };
+    (one(std::type_identity<std::tuple_element_t<I, Parts>>{}), ...);
   }
+  (std::make_index_sequence<std::tuple_size_v<Parts>>{});
+  return {cols, n};
 }
-template <class Env, class S, int M, class JM, int Id, int N>
-void scatter_columns(Values<S, M>& out, const JM& J, Symbol<Id, N>*) {
-  scatter_symbol<Env, Id, N>(out, J, 0);
+template <class Env, class A>
+struct GeneralColumns {
+  static constexpr std::array<int, std::size_t(A::rows)> cols =
+      general_columns<Env, A>().first;                            ///< the columns
+  static constexpr int count = general_columns<Env, A>().second;  ///< how many
+};
+
+/// True when every part of a call node's input is a symbol or a segment of one (the input is then
+/// read in place from the environment's arguments, not stacked into a copy).
+template <class A>
+constexpr bool all_symbol_parts() {
+  return []<class... P>(std::type_identity<std::tuple<P...>>) {
+    return ((CallPart<P>::id >= 0) && ...);
+  }(std::type_identity<typename CallParts<A>::type>{});
 }
-template <class Env, class S, int M, class JM, class... P>
-void scatter_columns(Values<S, M>& out, const JM& J, CatExpr<P...>*) {
+
+/// px[j] = the j-th element of the input (all parts symbols or segments of one), in place.
+template <class A, class Env, class S>
+void symbol_elements(const Env& env, const S** px) {
+  using Parts = typename CallParts<A>::type;
   int col = 0;
-  ((scatter_symbol<Env, P::id, P::rows>(out, J, col), col += P::rows), ...);
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    auto one = [&](auto part) {
+      using P = typename decltype(part)::type;
+      const auto& a = env.template arg<CallPart<P>::id>();
+      for (int j = 0; j < P::rows; ++j)
+        px[col + j] = &a[CallPart<P>::start + j];
+      col += P::rows;
+    };
+    (one(std::type_identity<std::tuple_element_t<I, Parts>>{}), ...);
+  }
+  (std::make_index_sequence<std::tuple_size_v<Parts>>{});
+}
+
+/// out[i].d[offset + j] += J(i, col + j) for every seeded part (its seeds are unit vectors: the
+/// chain rule is a scatter of J's columns; parameters contribute nothing).
+template <class Env, class A, class S, int M, class JM>
+void scatter_seeded(Values<S, M>& out, const JM& J) {
+  using Parts = typename CallParts<A>::type;
+  int col = 0;
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    auto one = [&](auto part) {
+      using P = typename decltype(part)::type;
+      if constexpr (part_is_seeded<Env, P>()) {
+        constexpr int off = Env::template offset<CallPart<P>::id>();
+        if constexpr (off >= 0) {
+          for (int i = 0; i < M; ++i)
+            for (int j = 0; j < P::rows; ++j)
+              out[i].d[off + CallPart<P>::start + j] += J(i, col + j);
+        }
+      }
+      col += P::rows;
+    };
+    (one(std::type_identity<std::tuple_element_t<I, Parts>>{}), ...);
+  }
+  (std::make_index_sequence<std::tuple_size_v<Parts>>{});
 }
 }  // namespace detail
 
@@ -92,35 +197,52 @@ struct CallExpr {
   Values<typename Env::Scalar, rows> eval(const Env& env) const {
     using S = typename Env::Scalar;
     constexpr int nin = F::nin;
-    const auto& x = arg.eval(env);
     Values<S, rows> out;
     if constexpr (is_dual_v<S>) {
       using T = typename S::Value;
       constexpr int K = S::directions;
+      // the input's elements: in place when its parts are symbols (or segments of one), else
+      // from its evaluation
+      const S* px[nin];
+      struct None {};
+      [[maybe_unused]] std::conditional_t<detail::all_symbol_parts<A>(), None, Values<S, nin>> xs;
+      if constexpr (detail::all_symbol_parts<A>()) {
+        detail::symbol_elements<A>(env, px);
+      } else {
+        xs = arg.eval(env);
+        for (int j = 0; j < nin; ++j)
+          px[j] = &xs[j];
+      }
       VecN<T, nin> xv;
       for (int j = 0; j < nin; ++j)
-        xv[j] = x[j].v;
+        xv[j] = px[j]->v;
       VecN<T, rows> yv;
       Eigen::Matrix<T, rows, nin> J = Eigen::Matrix<T, rows, nin>::Zero();  // (set by f)
       f.template value_and_jacobian<Tag, T>(xv, yv, J);
-      if constexpr (Env::seeded && detail::is_symbol_stack_v<A>) {
-        // x is made of seeded arguments: x.d are unit vectors, so d = J x.d is a scatter of J's
-        // columns (no products; parameters contribute nothing)
-        for (int i = 0; i < rows; ++i)
-          out[i] = S(yv[i]);
-        detail::scatter_columns<Env>(out, J, static_cast<A*>(nullptr));
-      } else {
-        for (int i = 0; i < rows; ++i) {
-          out[i].v = yv[i];
-          for (int k = 0; k < K; ++k) {
-            T acc = J(i, 0) * x[0].d[k];
-            for (int j = 1; j < nin; ++j)
-              acc += J(i, j) * x[j].d[k];
-            out[i].d[k] = acc;
+      // d = J x.d: the parts of x that are seeded symbols (unit seeds, known at compile time)
+      // scatter J's columns; the others (general derivatives) multiply, all rows of one
+      // direction at a time (the row accumulators stay in registers)
+      using G = detail::GeneralColumns<Env, A>;
+      for (int i = 0; i < rows; ++i)
+        out[i] = S(yv[i]);
+      if constexpr (G::count > 0) {
+        for (int k = 0; k < K; ++k) {
+          T acc[rows];
+          for (int i = 0; i < rows; ++i)
+            acc[i] = T(0);
+          for (int g = 0; g < G::count; ++g) {
+            const int j = G::cols[std::size_t(g)];
+            const T xj = px[j]->d[k];
+            for (int i = 0; i < rows; ++i)
+              acc[i] += J(i, j) * xj;
           }
+          for (int i = 0; i < rows; ++i)
+            out[i].d[k] = acc[i];
         }
       }
+      detail::scatter_seeded<Env, A>(out, J);
     } else {
+      const auto& x = arg.eval(env);
       VecN<S, rows> y;
       f.template value<S>(detail::to_eigen(x), y);
       for (int i = 0; i < rows; ++i)

@@ -30,6 +30,12 @@ struct RootEnv {
   static constexpr int offset() {
     return Offsets[std::size_t(Id)];
   }
+  /// True when the outer-level derivatives of argument Id are its seeds: unit vectors from
+  /// offset<Id>() (zero for a parameter). Here: every argument of a seeded evaluation.
+  template <int Id>
+  static constexpr bool unit_seeds() {
+    return Seeded;
+  }
   /// Value of argument Id.
   template <int Id>
   const auto& arg() const {

@@ -63,6 +63,34 @@ Values<S, E::rows> eval_at(const E& e, const A&... args) {
       make_env<S, T, !std::is_same_v<S, T>, off>(std::index_sequence_for<A...>{}, args...);
   return e.eval(env);
 }
+
+/// The environment of a first-derivative evaluation: the arguments at Dual<T, n> seeded as listed
+/// in Wrt (n their total size). Several expressions of the same arguments evaluated in one
+/// environment (value_and_jacobian_in) seed the arguments once.
+template <int... Wrt, class... A>
+auto jacobian_env(const A&... args) {
+  using T = scalar_of_args<A...>;
+  constexpr int n = Layout<IdList<Wrt...>, A...>::directions;
+  static_assert(n >= 1, "nothing to differentiate with respect to");
+  constexpr auto off = Layout<IdList<Wrt...>, A...>::offsets;
+  return make_env<Dual<T, n>, T, true, off>(std::index_sequence_for<A...>{}, args...);
+}
+
+/// Value and Jacobian of e in an environment made by jacobian_env.
+template <class Env, Expression E>
+auto value_and_jacobian_in(const Env& env, const E& e) {
+  using S = typename Env::Scalar;
+  using T = typename S::Value;
+  constexpr int n = S::directions;
+  const Values<S, E::rows> r = e.eval(env);
+  ValueJacobian<T, E::rows, n> out;
+  for (int i = 0; i < E::rows; ++i) {
+    out.value[i] = r[i].v;
+    for (int k = 0; k < n; ++k)
+      out.jacobian(i, k) = r[i].d[k];
+  }
+  return out;
+}
 }  // namespace detail
 
 /// Value of e; argument i is the value of Symbol<i, N> (Eigen N-vector, or a scalar if N == 1).
@@ -74,17 +102,7 @@ VecN<detail::scalar_of_args<A...>, E::rows> evaluate(const E& e, const A&... arg
 /// Value and Jacobian of e with respect to the arguments Wrt... (all, stacked by Id, if none).
 template <int... Wrt, Expression E, class... A>
 auto value_and_jacobian(const E& e, const A&... args) {
-  using T = detail::scalar_of_args<A...>;
-  constexpr int n = detail::Layout<detail::IdList<Wrt...>, A...>::directions;
-  static_assert(n >= 1, "nothing to differentiate with respect to");
-  const Values<Dual<T, n>, E::rows> r = detail::eval_at<Dual<T, n>, Wrt...>(e, args...);
-  ValueJacobian<T, E::rows, n> out;
-  for (int i = 0; i < E::rows; ++i) {
-    out.value[i] = r[i].v;
-    for (int k = 0; k < n; ++k)
-      out.jacobian(i, k) = r[i].d[k];
-  }
-  return out;
+  return detail::value_and_jacobian_in(detail::jacobian_env<Wrt...>(args...), e);
 }
 
 /// Jacobian of e with respect to the arguments Wrt... (all, stacked by Id, if none).

@@ -64,6 +64,21 @@ S scale(const S& x, const B& c) {
   }
 }
 
+/// a + x * c for a constant c of the innermost scalar type, in one pass over the components
+/// (the same operations, and so the same result, as a + scale(x, c)).
+template <class S, class B>
+S add_scaled(const S& a, const S& x, const B& c) {
+  if constexpr (is_dual_v<S>) {
+    S r;
+    r.v = add_scaled(a.v, x.v, c);
+    for (int k = 0; k < S::directions; ++k)
+      r.d[k] = add_scaled(a.d[k], x.d[k], c);
+    return r;
+  } else {
+    return S(a + x * c);
+  }
+}
+
 /// x / c for a constant c of the innermost scalar type.
 template <class S, class B>
 S divide(const S& x, const B& c) {
