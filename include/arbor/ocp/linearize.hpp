@@ -14,9 +14,12 @@
 // Variable bounds and the embedding of x_0 are the solver's (nmpc/): they change without
 // relinearising. Multipliers follow the QP's sign convention (qp/problem.hpp): the stage
 // Lagrangian is f + lam_dyn' (x_{k+1} - F) + mu' g.
-// Cost per path stage: one evaluation of F and of each inner function at Dual<T, nx + nu>, and
-// O(rows (nx + nu)^2) for the Hessian products; exact Hessians add one evaluation of the
-// Lagrangian at Dual<Dual<T, n>, n> and an n x n eigen-decomposition.
+// Cost per path stage: one evaluation of F and of each inner function at Dual<T, nx + nu> (in one
+// environment: the arguments are seeded once), and the Gauss-Newton products: with the provided
+// outer functions (diagonal Hessians) sum_i nnz_i^2 / 2 multiply-adds over the nonzero entries
+// of each row of J (the lower triangle; mirrored once), else O(rows^2 n + rows n^2); exact
+// Hessians add one evaluation of the Lagrangian at Dual<Dual<T, n>, n> and an n x n
+// eigen-decomposition.
 #pragma once
 
 #include <Eigen/Core>
@@ -68,6 +71,56 @@ namespace detail {
 template <class Tuple, class F>
 void for_each_term(const Tuple& t, F&& f) {
   std::apply([&](const auto&... term) { (f(term), ...); }, t);
+}
+
+/// The lower triangle of hess += scale J' grad^2 phi(r) J (the Gauss-Newton term of an outer
+/// function phi of an m-row inner function with Jacobian J, m x n); the strict upper triangle of
+/// hess is not touched (symmetrize_lower() completes it once all terms are in). With a diagonal
+/// Hessian (DiagonalHessian) the product is a sum of rank-one updates h_i J_i' J_i over the
+/// nonzero entries of each row J_i (rows of a stacked residual typically depend on a few
+/// variables: an input, a state, the joints): O(sum_i nnz_i^2) instead of O(m^2 n + m n^2);
+/// otherwise H J is formed first (lazy products: no general matrix-product kernel for these fixed
+/// small sizes). Exact zeros of J are skipped, which changes nothing but the order of the sums.
+template <class Phi, class T, int m, int n>
+void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& r,
+                            const Eigen::Matrix<T, m, n>& J, T scale) {
+  if constexpr (DiagonalHessian<Phi, T, m>) {
+    const VecN<T, m> h = phi.template hessian_diagonal<T, m>(r);
+    int idx[n];
+    T val[n];
+    for (int i = 0; i < m; ++i) {
+      const T hi = scale * h[i];
+      if (hi == T(0))
+        continue;
+      int c = 0;
+      for (int k = 0; k < n; ++k) {
+        const T v = J(i, k);
+        if (v != T(0)) {
+          idx[c] = k;
+          val[c] = v;
+          ++c;
+        }
+      }
+      for (int a = 0; a < c; ++a) {
+        const T va = hi * val[a];
+        for (int b = 0; b <= a; ++b)
+          hess(idx[a], idx[b]) += va * val[b];
+      }
+    }
+  } else {
+    const Eigen::Matrix<T, m, n> HJ = phi.template hessian<T, m>(r).lazyProduct(J);
+    for (int b = 0; b < n; ++b)
+      for (int a = b; a < n; ++a)
+        hess(a, b) += scale * J.col(a).dot(HJ.col(b));
+  }
+}
+
+/// Copies the lower triangle of hess to its upper triangle.
+template <class T, int n>
+void symmetrize_lower(MatN<T, n>& hess) {
+  for (int b = 0; b < n; ++b)
+    for (int a = b + 1; a < n; ++a)
+      hess(b, a) = hess(a, b);
 }
 
 template <class C>
@@ -131,8 +184,10 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
   st.R.setZero();
   st.r.setZero();
 
+  // one environment (x and u seeded at Dual<T, n>) for the dynamics and every term
+  const auto env = ad::detail::jacobian_env<0, 1>(x, u, p);
   {  // dynamics, straight into A and B
-    const auto r = ad::detail::eval_at<ad::Dual<T, n>, 0, 1>(prob.dynamics, x, u, p);
+    const auto r = prob.dynamics.eval(env);
     for (int i = 0; i < nx; ++i) {
       st.b[i] = r[i].v - x_next[i];
       for (int k = 0; k < nx; ++k)
@@ -146,10 +201,10 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
 
   detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
     constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    const auto [rv, J] = ad::value_and_jacobian<0, 1>(c.r, x, u, p);
+    const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
     grad.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
     if constexpr (H == HessianKind::gauss_newton)
-      hess.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
+      detail::add_gauss_newton_lower(hess, c.phi, VecN<T, m>(rv), J, T(1));
   });
 
   if constexpr (P::ng == 0) {  // the free row
@@ -169,7 +224,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     }
     if constexpr (detail::is_convex_constraint_v<C>) {
       constexpr int m = decltype(c.c)::rows;
-      const auto [cv, J] = ad::value_and_jacobian<0, 1>(c.c, x, u, p);
+      const auto [cv, J] = ad::detail::value_and_jacobian_in(env, c.c);
       const Eigen::Matrix<T, 1, n> jrow = c.psi.template gradient<T, m>(cv).transpose() * J;
       st.C.row(row) = jrow.template head<nx>();
       st.D.row(row).template head<nu>() = jrow.template tail<nu>();
@@ -180,7 +235,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       mu[nl] = mui;
       if constexpr (H == HessianKind::gauss_newton) {
         if (mui > T(0))
-          hess.noalias() += mui * (J.transpose() * c.psi.template hessian<T, m>(cv) * J);
+          detail::add_gauss_newton_lower(hess, c.psi, VecN<T, m>(cv), J, mui);
       }
       if constexpr (C::soft) {
         st.D(row, nu + slack) = T(-1);
@@ -191,7 +246,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       ++nl;
     } else {
       constexpr int m = C::rows;
-      const auto [gv, J] = ad::value_and_jacobian<0, 1>(c.g, x, u, p);
+      const auto [gv, J] = ad::detail::value_and_jacobian_in(env, c.g);
       const int copies = C::soft ? 2 : 1;
       for (int side = 0; side < copies; ++side) {
         st.C.template middleRows<m>(row + side * m) = J.template leftCols<nx>();
@@ -226,6 +281,8 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     const auto L =
         detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
     hess = ad::hessian<0, 1>(L, x, u, p, lam_dyn, mu);
+  } else {
+    detail::symmetrize_lower(hess);  // (the Gauss-Newton terms filled the lower triangle)
   }
   st.Q = hess.template topLeftCorner<nx, nx>();
   st.S.template topRows<nu>() = hess.template bottomLeftCorner<nu, nx>();
@@ -249,7 +306,7 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     const auto [rv, J] = ad::value_and_jacobian<0>(c.r, x, u0, p);
     t.q.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
     if constexpr (H == HessianKind::gauss_newton)
-      t.Q.noalias() += J.transpose() * c.phi.template hessian<T, m>(rv) * J;
+      detail::add_gauss_newton_lower(t.Q, c.phi, VecN<T, m>(rv), J, T(1));
   });
   if constexpr (P::ngn == 0) {  // the free row
     t.C.setZero();
@@ -269,7 +326,7 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
       mu[row] = lam_g[row];
       if constexpr (H == HessianKind::gauss_newton) {
         if (lam_g[row] > T(0))
-          t.Q.noalias() += lam_g[row] * (J.transpose() * c.psi.template hessian<T, m>(cv) * J);
+          detail::add_gauss_newton_lower(t.Q, c.psi, VecN<T, m>(cv), J, T(lam_g[row]));
       }
       ++row;
     } else {
@@ -288,6 +345,8 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     const auto L = detail::lagrangian<nx, P::nmn>(prob.terminal_costs, prob.terminal_constraints,
                                                   static_cast<const void*>(nullptr));
     t.Q = ad::hessian<0>(L, x, u0, p, VecN<T, nx>::Zero().eval(), mu);
+  } else {
+    detail::symmetrize_lower(t.Q);  // (the Gauss-Newton terms filled the lower triangle)
   }
 }
 

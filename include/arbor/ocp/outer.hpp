@@ -7,7 +7,12 @@
 //                                              expression layer for exact-Hessian SQP)
 //   VecN<T, M> gradient(const VecN<T, M>& r)   grad phi(r)
 //   MatN<T, M> hessian(const VecN<T, M>& r)    grad^2 phi(r), positive semidefinite
-// SCQP's Hessian uses only the last two (J' grad^2 phi J: no second derivative of r). Provided:
+// SCQP's Hessian uses only the last two (J' grad^2 phi J: no second derivative of r). An outer
+// function whose Hessian is diagonal may also provide
+//   VecN<T, M> hessian_diagonal(const VecN<T, M>& r)   the diagonal of grad^2 phi(r)
+// (DiagonalHessian below); the Gauss-Newton product J' grad^2 phi J is then a sum of rank-one
+// updates over the nonzero entries of each row of J (ocp/linearize.hpp) instead of a dense
+// triple product. Provided:
 //   WeightedSquares<M>  sum_i w_i r_i^2, w_i >= 0    (least squares; "weights multiply squares")
 //   Ball<M>             |r|^2 - rho^2                (a tunnel |e| <= rho, as psi <= 0)
 // Cost: O(M) per value or gradient, O(M^2) per Hessian.
@@ -29,6 +34,13 @@ concept OuterFunction = requires(const Phi& phi, const VecN<double, M>& r) {
   { phi.template value<double, M>(r) } -> std::convertible_to<double>;
   { phi.template gradient<double, M>(r) } -> std::convertible_to<VecN<double, M>>;
   { phi.template hessian<double, M>(r) } -> std::convertible_to<MatN<double, M>>;
+};
+
+/// Outer functions with a diagonal Hessian: hessian_diagonal(r) is the diagonal of hessian(r),
+/// which is zero elsewhere.
+template <class Phi, class T, int M>
+concept DiagonalHessian = requires(const Phi& phi, const VecN<T, M>& r) {
+  { phi.template hessian_diagonal<T, M>(r) } -> std::convertible_to<VecN<T, M>>;
 };
 
 /// sum_i w_i r_i^2 with w_i >= 0.
@@ -59,6 +71,14 @@ struct WeightedSquares {
       h(i, i) = T(2 * w[std::size_t(i)]);
     return h;
   }
+  /// 2 w (the diagonal of the Hessian).
+  template <class T, int K>
+  VecN<T, K> hessian_diagonal(const VecN<T, K>&) const {
+    VecN<T, K> h;
+    for (int i = 0; i < K; ++i)
+      h[i] = T(2 * w[std::size_t(i)]);
+    return h;
+  }
 };
 
 /// |r|^2 - rho^2: psi(c) <= 0 keeps c in the ball of radius rho.
@@ -82,6 +102,11 @@ struct Ball {
   template <class T, int K>
   MatN<T, K> hessian(const VecN<T, K>&) const {
     return T(2) * MatN<T, K>::Identity();
+  }
+  /// 2 (the diagonal of the Hessian).
+  template <class T, int K>
+  VecN<T, K> hessian_diagonal(const VecN<T, K>&) const {
+    return VecN<T, K>::Constant(T(2));
   }
 };
 

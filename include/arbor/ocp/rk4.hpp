@@ -6,7 +6,10 @@
 // No `let` pyramid to write: the node evaluates f at the four stage states of each step by
 // substituting the state argument (the other arguments, u and p, are shared).
 // Cost: 4 M evaluations of f plus 10 M nx scalar operations; at S = Dual<T, n> every evaluation of
-// f is one at S. Stack: 6 nx values of S.
+// f is one at S. The first evaluation runs in the caller's environment (the state is the
+// argument itself: a call node in f scatters the Jacobian columns of seeded arguments instead of
+// multiplying), the others with the stage state substituted (call nodes multiply only the
+// state's columns: the input and parameter columns are still seeds). Stack: 6 nx values of S.
 #pragma once
 
 #include "arbor/ad/expr/scalar.hpp"
@@ -16,7 +19,8 @@ namespace arbor::ocp {
 
 namespace detail {
 /// An environment equal to Parent except that argument 0 (the state) is `x`. Derivatives of x are
-/// general (not unit seeds), so the environment is not `seeded` (call nodes apply the chain rule).
+/// general (not unit seeds), so the environment is not `seeded` (call nodes apply the chain rule
+/// to it); the other arguments keep the parent's seeds (call nodes scatter their columns).
 template <class Parent, class V>
 struct StateEnv {
   using Scalar = typename Parent::Scalar;  ///< scalar type of the evaluation
@@ -27,6 +31,14 @@ struct StateEnv {
   template <int Id>
   static constexpr int offset() {
     return Parent::template offset<Id>();
+  }
+  /// Argument Id's derivatives are its seeds: not the substituted state's, the parent's others.
+  template <int Id>
+  static constexpr bool unit_seeds() {
+    if constexpr (Id == 0)
+      return false;
+    else
+      return Parent::template unit_seeds<Id>();
   }
   /// Argument Id: the substituted state for Id 0, the parent's otherwise.
   template <int Id>
@@ -64,24 +76,26 @@ struct Rk4Expr {
     static_assert(V::size == n, "rk4: the state argument (Symbol<0, n>) must have f's size");
     V xs, acc;
     for (int m = 0; m < M; ++m) {
-      const V k1 = f.eval(detail::StateEnv<Env, V>{env, x});
+      // k1 of the first step is f at the argument itself: the parent environment (whose state
+      // may carry unit seeds, which call nodes scatter instead of multiplying)
+      const V k1 = m == 0 ? V(f.eval(env)) : V(f.eval(detail::StateEnv<Env, V>{env, x}));
       for (int i = 0; i < n; ++i) {
-        xs[i] = x[i] + ad::detail::scale(k1[i], half);
+        xs[i] = ad::detail::add_scaled(x[i], k1[i], half);
         acc[i] = k1[i];
       }
       const V k2 = f.eval(detail::StateEnv<Env, V>{env, xs});
       for (int i = 0; i < n; ++i) {
-        xs[i] = x[i] + ad::detail::scale(k2[i], half);
-        acc[i] = acc[i] + ad::detail::scale(k2[i], B(2));
+        xs[i] = ad::detail::add_scaled(x[i], k2[i], half);
+        acc[i] = ad::detail::add_scaled(acc[i], k2[i], B(2));
       }
       const V k3 = f.eval(detail::StateEnv<Env, V>{env, xs});
       for (int i = 0; i < n; ++i) {
-        xs[i] = x[i] + ad::detail::scale(k3[i], dt);
-        acc[i] = acc[i] + ad::detail::scale(k3[i], B(2));
+        xs[i] = ad::detail::add_scaled(x[i], k3[i], dt);
+        acc[i] = ad::detail::add_scaled(acc[i], k3[i], B(2));
       }
       const V k4 = f.eval(detail::StateEnv<Env, V>{env, xs});
       for (int i = 0; i < n; ++i)
-        x[i] = x[i] + ad::detail::scale(acc[i] + k4[i], sixth);
+        x[i] = ad::detail::add_scaled(x[i], S(acc[i] + k4[i]), sixth);
     }
     return x;
   }
