@@ -176,7 +176,7 @@ void frame_derivatives_match_finite_differences(unsigned seed) {
       return frame_placement<R>(*e, f).p;
     };
     auto jx = [&](const Vec<n>& q) -> Vec<6> {
-      Eigen::Matrix<double, 6, n> J;
+      Eigen::Matrix<double, 6, n> J = Eigen::Matrix<double, 6, n>::Zero();  // -O1 warns otherwise
       compute_frame_jacobian<R>(*e, q, f, ReferenceFrame::local_world_aligned, J);
       return J * x;
     };
