@@ -118,6 +118,8 @@ void check_backend(unsigned seed0, int count) {
 using Small = OcpQp<double, 5, 3, 2, 2, 1>;
 using NoInput = OcpQp<double, 4, 2, 0, 1, 0>;
 using Wide = OcpQp<double, 6, 4, 3, 0, 2>;
+// sizes that fill the 4 x 4 blocks of the kernels (kernels.hpp) and leave tails of 1 and 3
+using Blocked = OcpQp<double, 4, 9, 6, 2, 1>;
 template <typename Qp>
 using Default = arbor::qp::detail::OcpBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
 template <typename Qp>
@@ -128,6 +130,7 @@ TEST(QpBackend, DefaultMatchesDenseThroughUpdates) {
   check_backend<Small, Default<Small>>(100, 20);
   check_backend<NoInput, Default<NoInput>>(200, 20);
   check_backend<Wide, Default<Wide>>(300, 20);
+  check_backend<Blocked, Default<Blocked>>(400, 20);
 }
 
 TEST(QpBackend, ReferenceMatchesDenseThroughUpdates) {

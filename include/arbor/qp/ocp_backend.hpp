@@ -17,9 +17,12 @@
 // cost-to-go of the backward recursion); both orders cost the same. Per stage, in multiply-adds:
 // NW (NW+1)/2 NX (E-weighted dynamics), NX (NX+1)/2 NW (corner), NW^3/6 (Cholesky),
 // NX NW^2/2 (X_k): 14.8 k for NX = 16, NU = 8.
-// Kernels: the lower factor is stored column-major and every inner loop is an axpy over a
-// contiguous column (vectorised by the compiler without reassociation; the reference backend in
-// ocp_cholesky_backend.hpp uses dot products, which are not).
+// Kernels (kernels.hpp): each stage block is assembled in a full NW x NW scratch matrix on the
+// stack; the products ([A B]' E [A B], the x corner, the Cholesky's and X_k's updates) run in
+// register-blocked 4 x 4 kernels with compile-time sizes, the 4-column panels in column axpys.
+// The factor keeps L_kk and L_NN packed (lower triangles only). solve() works on the packed
+// columns four at a time (forward: one pass over the rows below a 4 x 4 block; backward: four
+// dot products sharing their loads) and multiplies by X_k with Eigen's fixed-size products.
 //
 // Working-set changes: a bound or a row that enters or leaves the working set changes M by
 // +-e v v' with v supported on one stage k (v = e_i for a bound, the row [C_j D_j] for a path
@@ -28,8 +31,9 @@
 // more than half the working precision (r^2 < sqrt(eps) L_jj^2) is abandoned and the stages from
 // k on are refactorized instead; after max_updates updates the next factorization is a full one
 // (round-off of the updates does not accumulate). Side switches (lower <-> upper) do not change M.
-// Memory (scalars): N (NW^2 + NW NX) + NX^2 for the factor (as the reference backend), plus
-// NV + NA bytes (the working set the factor holds).
+// Memory (scalars): N (NW (NW+1)/2 + NW NX) + NX (NX+1)/2 for the factor, plus NV + NA bytes
+// (the working set the factor holds); ~36 KB less than full L_kk blocks for the Kinova size in
+// double. Stack: the NW x NW scratch and [A B]' (NW x NX) during a stage's factorization.
 #pragma once
 
 #include <Eigen/Core>
@@ -39,60 +43,85 @@
 #include <limits>
 
 #include "arbor/qp/backend.hpp"
+#include "arbor/qp/kernels.hpp"
 #include "arbor/qp/problem.hpp"
 
 namespace arbor::qp::detail {
 
-/// Lower Cholesky L L' = a in place (lower triangle read and written, upper never read), left-
-/// looking with contiguous column updates; false on a pivot that is not positive and finite.
-template <typename Mat>
-bool cholesky_lower_in_place(Mat& a) {
-  using Scalar = typename Mat::Scalar;
-  constexpr int n = Mat::RowsAtCompileTime;
-  static_assert(n == Mat::ColsAtCompileTime, "square matrix expected");
-  Scalar* d = a.data();
-  for (int j = 0; j < n; ++j) {
-    Scalar* cj = d + j * n;
-    for (int k = 0; k < j; ++k) {
-      const Scalar* ck = d + k * n;
-      const Scalar s = ck[j];
-      for (int r = j; r < n; ++r)
-        cj[r] -= s * ck[r];
+/// Solves L y = b in place, L lower of order n packed (kernels::packed_col): four columns at a
+/// time, the 4 x 4 diagonal block first, then one pass over the rows below it.
+template <int n, typename Scalar>
+void solve_lower_packed(const Scalar* l, Scalar* b) {
+  int j = 0;
+  for (; j + 4 <= n; j += 4) {
+    // c_i[r] = L(r, j + i), r >= j + i
+    const Scalar* c0 = l + kernels::packed_col(n, j) - j;
+    const Scalar* c1 = l + kernels::packed_col(n, j + 1) - (j + 1);
+    const Scalar* c2 = l + kernels::packed_col(n, j + 2) - (j + 2);
+    const Scalar* c3 = l + kernels::packed_col(n, j + 3) - (j + 3);
+    const Scalar y0 = b[j] / c0[j];
+    const Scalar y1 = (b[j + 1] - c0[j + 1] * y0) / c1[j + 1];
+    const Scalar y2 = (b[j + 2] - c0[j + 2] * y0 - c1[j + 2] * y1) / c2[j + 2];
+    const Scalar y3 = (b[j + 3] - c0[j + 3] * y0 - c1[j + 3] * y1 - c2[j + 3] * y2) / c3[j + 3];
+    b[j] = y0;
+    b[j + 1] = y1;
+    b[j + 2] = y2;
+    b[j + 3] = y3;
+    for (int r = j + 4; r < n; ++r)
+      b[r] -= c0[r] * y0 + c1[r] * y1 + c2[r] * y2 + c3[r] * y3;
+  }
+  for (; j < n; ++j) {
+    const Scalar* cj = l + kernels::packed_col(n, j) - j;
+    const Scalar yj = b[j] / cj[j];
+    b[j] = yj;
+    for (int r = j + 1; r < n; ++r)
+      b[r] -= yj * cj[r];
+  }
+}
+
+/// Solves L' y = b in place, L lower of order n packed: back substitution by blocks of four
+/// columns, whose dot products with the solved part share its loads.
+template <int n, typename Scalar>
+void solve_lower_transposed_packed(const Scalar* l, Scalar* b) {
+  constexpr int tail = n % 4;
+  for (int j = n - 1; j >= n - tail; --j) {
+    const Scalar* cj = l + kernels::packed_col(n, j) - j;
+    Scalar s = b[j];
+    for (int r = j + 1; r < n; ++r)
+      s -= cj[r] * b[r];
+    b[j] = s / cj[j];
+  }
+  for (int j = n - tail - 4; j >= 0; j -= 4) {
+    const Scalar* c0 = l + kernels::packed_col(n, j) - j;
+    const Scalar* c1 = l + kernels::packed_col(n, j + 1) - (j + 1);
+    const Scalar* c2 = l + kernels::packed_col(n, j + 2) - (j + 2);
+    const Scalar* c3 = l + kernels::packed_col(n, j + 3) - (j + 3);
+    Scalar s0 = b[j], s1 = b[j + 1], s2 = b[j + 2], s3 = b[j + 3];
+    for (int r = j + 4; r < n; ++r) {
+      const Scalar y = b[r];
+      s0 -= c0[r] * y;
+      s1 -= c1[r] * y;
+      s2 -= c2[r] * y;
+      s3 -= c3[r] * y;
     }
-    const Scalar p = cj[j];
-    if (!(p > Scalar(0)) || !std::isfinite(p))
-      return false;
-    const Scalar l = std::sqrt(p);
-    cj[j] = l;
-    const Scalar inv = Scalar(1) / l;
-    for (int r = j + 1; r < n; ++r)
-      cj[r] *= inv;
+    const Scalar y3 = s3 / c3[j + 3];
+    const Scalar y2 = (s2 - c2[j + 3] * y3) / c2[j + 2];
+    const Scalar y1 = (s1 - c1[j + 2] * y2 - c1[j + 3] * y3) / c1[j + 1];
+    const Scalar y0 = (s0 - c0[j + 1] * y1 - c0[j + 2] * y2 - c0[j + 3] * y3) / c0[j];
+    b[j] = y0;
+    b[j + 1] = y1;
+    b[j + 2] = y2;
+    b[j + 3] = y3;
   }
-  return true;
 }
 
-/// Solves L y = b in place (L lower from cholesky_lower_in_place), column-oriented.
-template <typename MatL, typename Vec>
-void solve_lower(const MatL& l, Vec& b) {
-  constexpr int n = MatL::RowsAtCompileTime;
+/// Packs the lower triangle of a (order n, column-major, leading dimension n) into l.
+template <int n, typename Scalar>
+void pack_lower(const Scalar* a, Scalar* l) {
   for (int j = 0; j < n; ++j) {
-    const auto yj = b(j) / l(j, j);
-    b(j) = yj;
-    for (int r = j + 1; r < n; ++r)
-      b(r) -= yj * l(r, j);
-  }
-}
-
-/// Solves L' y = b in place (back substitution with dot products over columns of L).
-template <typename MatL, typename Vec>
-void solve_lower_transposed(const MatL& l, Vec& b) {
-  using Scalar = typename MatL::Scalar;
-  constexpr int n = MatL::RowsAtCompileTime;
-  for (int j = n - 1; j >= 0; --j) {
-    Scalar s = b(j);
-    for (int r = j + 1; r < n; ++r)
-      s -= l(r, j) * b(r);
-    b(j) = s / l(j, j);
+    Scalar* cj = l + kernels::packed_col(n, j) - j;
+    for (int r = j; r < n; ++r)
+      cj[r] = a[r + j * n];
   }
 }
 
@@ -115,12 +144,14 @@ struct OcpBackend {
   using MatW = Eigen::Matrix<Scalar, NW, NW>;
   using MatXW = Eigen::Matrix<Scalar, NX, NW>;
   using MatX = Eigen::Matrix<Scalar, NX, NX>;
+  static constexpr int PW = kernels::packed_size(NW);  ///< scalars of a packed L_kk
+  static constexpr int PX = kernels::packed_size(NX);  ///< scalars of the packed L_NN
 
-  const Problem* p = nullptr;               ///< referenced problem
-  std::array<MatW, N> l_diag;               ///< L_kk (lower triangle)
-  std::array<MatXW, N> l_off;               ///< X_k = L_{k+1,k}, rows of x_{k+1}
-  MatX l_term;                              ///< L_NN (lower triangle)
-  int dirty_from = 0;                       ///< first stage to refactorize (N+1: none)
+  const Problem* p = nullptr;                    ///< referenced problem
+  std::array<std::array<Scalar, PW>, N> l_diag;  ///< L_kk, packed lower triangle
+  std::array<MatXW, N> l_off;                    ///< X_k = L_{k+1,k}, rows of x_{k+1}
+  std::array<Scalar, PX> l_term;                 ///< L_NN, packed lower triangle
+  int dirty_from = 0;                            ///< first stage to refactorize (N+1: none)
   int updates = 0;                          ///< rank-one updates since the last full factorization
   int updates_last = 0;                     ///< rank-one updates made by the last factorize()
   std::array<int, max_pending> pending{};   ///< changed constraints not yet in the factor
@@ -251,45 +282,22 @@ struct OcpBackend {
   }
 
   void solve(VecV& b) const {
-    VecW v;
-    VecX vx;
+    Scalar* y = b.data();
     for (int k = 0; k < N; ++k) {
-      v = b.template segment<NW>(k * NW);
-      if (k > 0) {
-        const MatXW& x = l_off[k - 1];
-        for (int j = 0; j < NW; ++j) {
-          const Scalar y = b(NW * (k - 1) + j);
-          for (int r = 0; r < NX; ++r)
-            v(r) -= y * x(r, j);
-        }
-      }
-      solve_lower(l_diag[k], v);
-      b.template segment<NW>(k * NW) = v;
+      Scalar* v = y + k * NW;
+      if (k > 0)
+        sub_x_times(l_off[k - 1], y + (k - 1) * NW, v);
+      solve_lower_packed<NW>(l_diag[k].data(), v);
     }
-    vx = b.template tail<NX>();
-    {
-      const MatXW& x = l_off[N - 1];
-      for (int j = 0; j < NW; ++j) {
-        const Scalar y = b(NW * (N - 1) + j);
-        for (int r = 0; r < NX; ++r)
-          vx(r) -= y * x(r, j);
-      }
-    }
-    solve_lower(l_term, vx);
-    solve_lower_transposed(l_term, vx);
-    b.template tail<NX>() = vx;
+    Scalar* vx = y + N * NW;
+    sub_x_times(l_off[N - 1], y + (N - 1) * NW, vx);
+    solve_lower_packed<NX>(l_term.data(), vx);
+    solve_lower_transposed_packed<NX>(l_term.data(), vx);
     for (int k = N - 1; k >= 0; --k) {
-      v = b.template segment<NW>(k * NW);
-      const auto z = b.template segment<NX>((k + 1) * NW);
-      const MatXW& x = l_off[k];
-      for (int j = 0; j < NW; ++j) {
-        Scalar s = v(j);
-        for (int r = 0; r < NX; ++r)
-          s -= x(r, j) * z(r);
-        v(j) = s;
-      }
-      solve_lower_transposed(l_diag[k], v);
-      b.template segment<NW>(k * NW) = v;
+      Scalar* v = y + k * NW;
+      const Scalar* z = y + (k + 1) * NW;
+      Eigen::Map<VecW>(v).noalias() -= l_off[k].transpose() * Eigen::Map<const VecX>(z);
+      solve_lower_transposed_packed<NW>(l_diag[k].data(), v);
     }
   }
 
@@ -307,12 +315,19 @@ struct OcpBackend {
     }
   }
 
+  /// v(0:NX) -= X y (X: NX x NW, y: NW).
+  static void sub_x_times(const MatXW& x, const Scalar* y, Scalar* v) {
+    Eigen::Map<VecX>(v).noalias() -= x * Eigen::Map<const VecW>(y);
+  }
+
   bool factor_stage(int k, const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
+    using namespace kernels;
     const auto& s = p->stage[k];
     const int r0 = k * (NX + NG);
-    MatW& d = l_diag[k];
+    MatW d;  // M_kk, then L_kk (full square scratch: the kernels write above the diagonal)
     d.template topLeftCorner<NX, NX>() = s.Q;
     d.template bottomLeftCorner<NU, NX>() = s.S;
+    d.template topRightCorner<NX, NU>() = s.S.transpose();
     d.template bottomRightCorner<NU, NU>() = s.R;
     const ConstraintState* wsb = ws + k * NW;
     for (int i = 0; i < NW; ++i)
@@ -325,50 +340,44 @@ struct OcpBackend {
         a(c) = c < NX ? s.C(j, c) : s.D(j, c - NX);
       add_rank_one_lower(d, a, wa(r0 + NX + j));
     }
-    // E-weighted dynamics: d += [A B]' E [A B] (lower), t(:, i) = row i of [A B]
+    // X_k starts as -E [A B]; the E-weighted dynamics d += [A B]' E [A B] = -T X_k (lower),
+    // with T = [A B]' (column i = row i of [A B])
+    MatXW& x = l_off[k];
     Eigen::Matrix<Scalar, NW, NX> t;
     t.template topRows<NX>() = s.A.transpose();
     t.template bottomRows<NU>() = s.B.transpose();
-    Scalar wd[NX];
-    for (int i = 0; i < NX; ++i)
-      wd[i] = wa(r0 + i);
-    for (int c = 0; c < NW; ++c) {
-      Scalar* dc = d.data() + c * NW;
-      for (int i = 0; i < NX; ++i) {
-        const Scalar* ti = t.data() + i * NW;
-        const Scalar f = wd[i] * ti[c];
-        for (int r = c; r < NW; ++r)
-          dc[r] += f * ti[r];
-      }
+    {
+      Scalar wd[NX];
+      for (int i = 0; i < NX; ++i)
+        wd[i] = -wa(r0 + i);
+      for (int c = 0; c < NX; ++c)
+        for (int i = 0; i < NX; ++i)
+          x(i, c) = wd[i] * s.A(i, c);
+      for (int c = 0; c < NU; ++c)
+        for (int i = 0; i < NX; ++i)
+          x(i, NX + c) = wd[i] * s.B(i, c);
     }
+    gemm_nt_lower<NW, NW, NW, 1, NX, NW, false>(d.data(), t.data(), x.data(), NX);
     if (k > 0) {
+      // x corner: + E_{k-1} - X_{k-1} X_{k-1}'
       const Scalar* wp = wa.data() + (k - 1) * (NX + NG);
-      const MatXW& xp = l_off[k - 1];
-      for (int c = 0; c < NX; ++c) {
+      for (int c = 0; c < NX; ++c)
         d(c, c) += wp[c];
-        d.col(c).segment(c, NX - c).noalias() -= xp.middleRows(c, NX - c) * xp.row(c).transpose();
-      }
+      const Scalar* xp = l_off[k - 1].data();
+      gemm_nt_lower<NX, NX, NX, NX, 1, NW, false>(d.data(), xp, xp, NW);
     }
-    if (!cholesky_lower_in_place(d))
+    if (!potrf_lower<NW>(d.data()))
       return false;
-    // X_k = -E [A B] L^-T: column j = (-E [A B](:, j) - sum_{i<j} X(:, i) L(j, i)) / L(j, j)
-    MatXW& x = l_off[k];
-    const VecX wdv = wa.template segment<NX>(r0);  // copied: the segment is not aligned
-    x.template leftCols<NX>().noalias() = -(wdv.asDiagonal() * s.A);
-    x.template rightCols<NU>().noalias() = -(wdv.asDiagonal() * s.B);
-    for (int j = 0; j < NW; ++j) {
-      auto xj = x.col(j);
-      for (int i = 0; i < j; ++i)
-        xj -= d(j, i) * x.col(i);
-      xj *= Scalar(1) / d(j, j);
-    }
+    pack_lower<NW>(d.data(), l_diag[k].data());
+    // X_k = -E [A B] L^-T
+    trsm_rlt<NX, NW>(x.data(), d.data());
     return true;
   }
 
   bool factor_terminal(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
+    using namespace kernels;
     const auto& t = p->terminal;
-    MatX& d = l_term;
-    d = t.Q;
+    MatX d = t.Q;
     const ConstraintState* wsb = ws + N * NW;
     const Scalar* wp = wa.data() + (N - 1) * (NX + NG);
     for (int i = 0; i < NX; ++i)
@@ -382,34 +391,38 @@ struct OcpBackend {
         a(c) = t.C(j, c);
       add_rank_one_lower(d, a, wa(rg + j));
     }
-    const MatXW& xp = l_off[N - 1];
-    for (int c = 0; c < NX; ++c)
-      d.col(c).segment(c, NX - c).noalias() -= xp.middleRows(c, NX - c) * xp.row(c).transpose();
-    return cholesky_lower_in_place(d);
+    const Scalar* xp = l_off[N - 1].data();
+    gemm_nt_lower<NX, NX, NX, NX, 1, NX, false>(d.data(), xp, xp, NW);
+    if (!potrf_lower<NX>(d.data()))
+      return false;
+    pack_lower<NX>(d.data(), l_term.data());
+    return true;
   }
 
   /// One column step of a rank-one update (sigma = +1) or downdate (-1) of L L' by v v':
-  /// column j of the diagonal block ld (n rows) and of the block below it, lo (NX rows, may be
-  /// null), with the parts v (n) and vo (NX) of the vector. False when a downdate is unsafe:
-  /// r^2 <= tol L_jj^2 (tol = sqrt(eps): more than half the digits of the pivot would be lost).
+  /// column j of the packed diagonal block ld (order n) and of the block below it, lo (NX rows,
+  /// may be null), with the parts v (n) and vo (NX) of the vector. False when a downdate is
+  /// unsafe: r^2 <= tol L_jj^2 (tol = sqrt(eps): more than half the digits of the pivot would be
+  /// lost).
   template <int n>
   static bool rotate_column(Scalar* ld, Scalar* lo, Scalar* v, Scalar* vo, int j, Scalar sigma,
                             Scalar tol) {
     const Scalar vj = v[j];
     if (vj == Scalar(0))
       return true;
-    const Scalar ljj = ld[j];
+    Scalar* cj = ld + kernels::packed_col(n, j) - j;  // cj[i] = L(i, j), i >= j
+    const Scalar ljj = cj[j];
     const Scalar l2 = ljj * ljj;
     const Scalar r2 = l2 + sigma * vj * vj;
     if (!(r2 > tol * l2) || !std::isfinite(r2))
       return false;
     const Scalar r = std::sqrt(r2);
     const Scalar c = r / ljj, sn = vj / ljj, ic = ljj / r;
-    ld[j] = r;
+    cj[j] = r;
     v[j] = 0;
     for (int i = j + 1; i < n; ++i) {
-      const Scalar li = (ld[i] + sigma * sn * v[i]) * ic;
-      ld[i] = li;
+      const Scalar li = (cj[i] + sigma * sn * v[i]) * ic;
+      cj[i] = li;
       v[i] = c * v[i] - sn * li;
     }
     if (lo != nullptr) {
@@ -456,7 +469,7 @@ struct OcpBackend {
       Scalar* ld = l_diag[s].data();
       Scalar* lo = l_off[s].data();
       for (int j = 0; j < NW; ++j) {
-        if (!rotate_column<NW>(ld + j * NW, lo + j * NX, v.data(), vx.data(), j, sigma, tol))
+        if (!rotate_column<NW>(ld, lo + j * NX, v.data(), vx.data(), j, sigma, tol))
           return false;
       }
       v.template head<NX>() = vx;
@@ -468,7 +481,7 @@ struct OcpBackend {
       vx = v.template head<NX>();
     Scalar* ld = l_term.data();
     for (int j = 0; j < NX; ++j) {
-      if (!rotate_column<NX>(ld + j * NX, nullptr, vx.data(), nullptr, j, sigma, tol))
+      if (!rotate_column<NX>(ld, nullptr, vx.data(), nullptr, j, sigma, tol))
         return false;
     }
     return true;
