@@ -15,7 +15,7 @@
 // computed whole. Cost measured with GCC 12 -O3, SSE2 only (bench/qp/RESULTS.md): the 4 x 4 block
 // loop takes ~2.3 instructions per multiply-add in double (per term: two row loads, four
 // broadcasts, eight vector multiplies and adds, and the register copies of two-operand SSE); the
-// whole stage factorization, with its panels, assembly and packing, ~3.4 (the column-axpy code it
+// whole stage factorization, with its panels, assembly and packing, ~3.1 (the column-axpy code it
 // replaced: 3.8). Packed lower triangles (packed_col): column j holds rows j..n-1, n (n+1)/2
 // scalars.
 #pragma once
