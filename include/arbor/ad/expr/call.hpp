@@ -226,15 +226,25 @@ struct CallExpr {
       for (int i = 0; i < rows; ++i)
         out[i] = S(yv[i]);
       if constexpr (G::count > 0) {
+        // the general columns of J, contiguous, and their input elements
+        constexpr int ng = G::count;
+        T jg[ng][rows];
+        const S* xg[ng];
+        for (int g = 0; g < ng; ++g) {
+          const int j = G::cols[std::size_t(g)];
+          xg[g] = px[j];
+          for (int i = 0; i < rows; ++i)
+            jg[g][i] = J(i, j);
+        }
         for (int k = 0; k < K; ++k) {
           T acc[rows];
           for (int i = 0; i < rows; ++i)
             acc[i] = T(0);
-          for (int g = 0; g < G::count; ++g) {
-            const int j = G::cols[std::size_t(g)];
-            const T xj = px[j]->d[k];
+          for (int g = 0; g < ng; ++g) {
+            const T xj = xg[g]->d[k];
+            const T* jc = jg[g];
             for (int i = 0; i < rows; ++i)
-              acc[i] += J(i, j) * xj;
+              acc[i] += jc[i] * xj;
           }
           for (int i = 0; i < rows; ++i)
             out[i].d[k] = acc[i];

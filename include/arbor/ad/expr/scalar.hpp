@@ -64,18 +64,30 @@ S scale(const S& x, const B& c) {
   }
 }
 
-/// a + x * c for a constant c of the innermost scalar type, in one pass over the components
-/// (the same operations, and so the same result, as a + scale(x, c)).
+/// out = a + x * c for a constant c of the innermost scalar type, written in place component by
+/// component (no temporary; out may be a or x): the same operations, and so the same result, as
+/// a + scale(x, c).
 template <class S, class B>
-S add_scaled(const S& a, const S& x, const B& c) {
+void add_scaled_to(S& out, const S& a, const S& x, const B& c) {
   if constexpr (is_dual_v<S>) {
-    S r;
-    r.v = add_scaled(a.v, x.v, c);
+    add_scaled_to(out.v, a.v, x.v, c);
     for (int k = 0; k < S::directions; ++k)
-      r.d[k] = add_scaled(a.d[k], x.d[k], c);
-    return r;
+      add_scaled_to(out.d[k], a.d[k], x.d[k], c);
   } else {
-    return S(a + x * c);
+    out = a + x * c;
+  }
+}
+
+/// out = a + (x + y) * c for a constant c of the innermost scalar type, in place as
+/// add_scaled_to (the same result as a + scale(x + y, c)).
+template <class S, class B>
+void add_sum_scaled_to(S& out, const S& a, const S& x, const S& y, const B& c) {
+  if constexpr (is_dual_v<S>) {
+    add_sum_scaled_to(out.v, a.v, x.v, y.v, c);
+    for (int k = 0; k < S::directions; ++k)
+      add_sum_scaled_to(out.d[k], a.d[k], x.d[k], y.d[k], c);
+  } else {
+    out = a + (x + y) * c;
   }
 }
 
