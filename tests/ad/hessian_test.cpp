@@ -77,7 +77,8 @@ void jacobian_providers_agree(unsigned seed) {
   for (int i = 0; i < n; ++i)
     x[i] = u(gen);
   VecN<double, m> ya, yc, y;
-  Eigen::Matrix<double, m, n> Ja, Jc;
+  // (zero-initialised: at -O1 GCC warns that an output argument may be used uninitialised)
+  Eigen::Matrix<double, m, n> Ja = Eigen::Matrix<double, m, n>::Zero(), Jc = Ja;
   auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
   auto wc = std::make_unique<ad::JacobianWorkspace<F, ad::AutoDiff>>();
   auto wv = std::make_unique<ad::ValueWorkspace<F>>();
