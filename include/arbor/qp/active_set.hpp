@@ -44,7 +44,7 @@
 //     primal     max_i violation_i / |a_i|                 <= tol_primal * pscale,
 //     dual       max_j |(H x + g + lam_x + A' lam)_j|     <= tol_dual * dscale,
 //     compl.     max_i min(|lam_i| |a_i|, dist_i / |a_i|)  <= tol_comp * pscale,
-//   with pscale = 1 + max(|x|_inf, max_i |z_i| / |a_i|) and dscale = 1 + the largest term of
+//   with pscale = 1 + max(1, |x|_inf, max_i |z_i| / |a_i|) and dscale = 1 + the largest term of
 //   the stationarity sum, dist_i the distance of z_i to the bound lam_i's sign selects. Scaling
 //   a row changes none of these (stationarity contains a_i lam_i only), so `solved` is never
 //   returned at a point that violates a row relative to its own size. SolveInfo reports the
@@ -170,6 +170,13 @@ class ActiveSetCore {
     return std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
                     co_ / (s.tol_comp * pr_scale_));
   }
+  /// Entry i of the Farkas direction: dlam(i), or 0 on a side whose bound is infinite or when
+  /// not finite.
+  Scalar farkas_entry(int i) const {
+    const Scalar y = dlam(i);
+    const bool usable = y > 0 ? ub(i) < inf() : (y < 0 ? lb(i) > -inf() : true);
+    return usable && std::isfinite(y) ? y : Scalar(0);
+  }
   /// Threshold above which a wrong-sign multiplier (per constraint) fails the termination test.
   Scalar drop_threshold(const QpSettings<Scalar>& s) const {
     return std::min(s.tol_dual * du_scale_, s.tol_comp * pr_scale_);
@@ -222,7 +229,7 @@ class ActiveSetCore {
   Scalar co_ = 0;        ///< complementarity residual, per constraint
   Scalar pr_abs_ = 0;    ///< max violation as the data state it (reported)
   Scalar co_abs_ = 0;    ///< complementarity residual as the data state it (reported)
-  Scalar pr_scale_ = 1;  ///< 1 + max(|x|_inf, |z_i| / |a_i|): scale of primal and compl. tol.
+  Scalar pr_scale_ = 1;  ///< 1 + max(1, |x|_inf, |z_i| / |a_i|): scale of primal and compl. tol.
   Scalar du_scale_ = 1;  ///< 1 + largest term of H x + g + A' lam (scale of the dual one)
   Scalar sd_ = 0;        ///< max wrong-sign multiplier on the working set, per constraint
   int isd_ = -1;         ///< its index
@@ -341,13 +348,7 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
     du_scale_ = std::max(du_scale_, std::abs(g(i)));
     du_scale_ = std::max(du_scale_, std::abs(r_(i) - hx_(i) - g(i)));
   }
-  pr_scale_ = Scalar(1);
-  for (int i = 0; i < nz; ++i) {
-    const Scalar az = std::abs(zval(i)) / rnorm(i);
-    if (az > pr_scale_ && az < inf())
-      pr_scale_ = az;
-  }
-  pr_scale_ += Scalar(1);
+  pr_scale_ = Scalar(1);  // max(1, |z_i| / |a_i|) in the loop, plus 1 after it
   pr_ = 0;
   co_ = 0;
   pr_abs_ = 0;
@@ -365,6 +366,7 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
       continue;
     }
     const Scalar n = rnorm(i);
+    pr_scale_ = std::max(pr_scale_, std::abs(z) / n);
     const Scalar vl = l - z, vu = z - u;
     const Scalar va = vl > vu ? vl : vu;
     if (va > pr_abs_)
@@ -399,6 +401,7 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
       }
     }
   }
+  pr_scale_ += Scalar(1);
 }
 
 template <typename Scalar, int NV, int NA>
@@ -666,9 +669,7 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
     return false;  // the iterate is feasible: no certificate to look for
   Scalar ny = 0, sigma = 0, bscale = 1;
   for (int i = 0; i < nz; ++i) {
-    Scalar y = dlam(i);
-    if ((y > 0 && !(ub(i) < inf())) || (y < 0 && !(lb(i) > -inf())) || !std::isfinite(y))
-      y = 0;
+    const Scalar y = farkas_entry(i);
     if (i >= NV)
       tmpa_(i - NV) = y;
     if (y != 0) {
@@ -688,12 +689,8 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
   // e = A' y_a + y_x, accumulated in tmpv_ (y_x is cleaned again entry by entry)
   be.cons_tmul(tmpa_, tmpv_);
   Scalar e1 = 0;
-  for (int i = 0; i < NV; ++i) {
-    Scalar y = dlam_x_(i);
-    if ((y > 0 && !(ub(i) < inf())) || (y < 0 && !(lb(i) > -inf())) || !std::isfinite(y))
-      y = 0;
-    e1 += std::abs(tmpv_(i) + y);
-  }
+  for (int i = 0; i < NV; ++i)
+    e1 += std::abs(tmpv_(i) + farkas_entry(i));
   return e1 / ny * (Scalar(1) + bscale) <= s.tol_certificate * -sigma;
 }
 

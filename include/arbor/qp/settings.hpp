@@ -3,7 +3,7 @@
 //
 // Tolerances are relative and judged per constraint (active_set.hpp): a row's violation is
 // divided by its norm |a_i| and its multiplier multiplied by it, so scaling a row changes no test;
-// a residual passes when it is below tol * (1 + scale), with scale max(|x|_inf, |z_i| / |a_i|)
+// a residual passes when it is below tol * (1 + scale), with scale max(1, |x|_inf, |z_i| / |a_i|)
 // for the primal and complementarity residuals and the largest of |H x|_inf, |g|_inf,
 // |A' lam + lam_x|_inf for the dual one (cancellation in float makes absolute tolerances
 // unreachable on data of magnitude 10-100). tol_certificate: a Farkas certificate must prove
