@@ -11,6 +11,7 @@
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "kinova_qp.hpp"
 #include "qp_reference.hpp"
+#include "qp_robustness.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -23,15 +24,7 @@ using arbor::qp::QpSettings;
 using arbor::qp::QpStatus;
 namespace t = arbor::qp::test;
 
-template <typename Solver, typename Problem, typename Settings>
-QpStatus cold_solve(Solver& s, const Problem& p, const Settings& set) {
-  arbor::test::NoAllocScope guard;
-  const QpStatus st = s.setup(p, set);
-  if (st != QpStatus::accepted)
-    return st;
-  s.cold_start();
-  return s.solve();
-}
+using t::cold_solve;
 
 using KinovaF = arbor::bench::KinovaQp<float, 1>;
 

@@ -14,6 +14,7 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "qp_robustness.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -30,15 +31,7 @@ using arbor::qp::QpStatus;
 namespace t = arbor::qp::test;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-template <typename Solver, typename Problem, typename Settings>
-QpStatus cold_solve(Solver& s, const Problem& p, const Settings& set) {
-  arbor::test::NoAllocScope guard;
-  const QpStatus st = s.setup(p, set);
-  if (st != QpStatus::accepted)
-    return st;
-  s.cold_start();
-  return s.solve();
-}
+using t::cold_solve;
 
 template <int NV, int NA>
 t::RefQp ref_of(const DenseQpProblem<double, NV, NA>& p) {
