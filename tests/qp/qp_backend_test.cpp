@@ -4,16 +4,21 @@
 // block elimination with rank-one updates, and the reference block-tridiagonal Cholesky) must
 // agree with it after a full factorization and after sequences of working-set changes applied
 // through mark_changed() (rank-one updates, downdates and their refactorization fallback).
+// The exact-dynamics Riccati backend solves the KKT system [M_P D'; D 0] (D: the dynamics rows,
+// M_P without their weights; backend.hpp, ExactRowBackend) instead: it is checked against the
+// dense KKT matrix solved by Eigen's LU, primal step and dynamics multipliers.
 // Every backend call runs inside an allocation guard.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <array>
 #include <random>
 
 #include "alloc_guard.hpp"
 #include "arbor/qp/ocp_backend.hpp"
 #include "arbor/qp/ocp_cholesky_backend.hpp"
+#include "arbor/qp/ocp_riccati_backend.hpp"
 #include "qp_reference.hpp"
 
 namespace {
@@ -21,9 +26,17 @@ using arbor::qp::OcpQp;
 using arbor::qp::detail::ConstraintState;
 namespace t = arbor::qp::test;
 
+/// True for the dynamics rows of Qp (flat row index j).
+template <typename Qp>
+bool is_dynamics_row(int j) {
+  constexpr int NR = Qp::nx + Qp::ng;
+  return j < Qp::horizon * NR && j % NR < Qp::nx;
+}
+
+/// M = H + delta I + A_W' E A_W; without the dynamics rows when exact (the Riccati backend).
 template <typename Qp>
 Eigen::MatrixXd dense_m(const t::RefQp& r, const ConstraintState* ws, double delta, double w,
-                        const Eigen::VectorXd& wa) {
+                        const Eigen::VectorXd& wa, bool exact = false) {
   const int nv = Qp::nv, na = Qp::na;
   Eigen::MatrixXd m = r.H;
   m.diagonal().array() += delta;
@@ -32,7 +45,7 @@ Eigen::MatrixXd dense_m(const t::RefQp& r, const ConstraintState* ws, double del
       m(i, i) += w;
   }
   for (int j = 0; j < na; ++j) {
-    if (ws[nv + j] != ConstraintState::inactive)
+    if (ws[nv + j] != ConstraintState::inactive && !(exact && is_dynamics_row<Qp>(j)))
       m += wa(j) * r.A.row(j).transpose() * r.A.row(j);
   }
   return m;
@@ -77,20 +90,57 @@ void check_backend(unsigned seed0, int count) {
     std::uniform_int_distribution<int> pick(0, nv + na - 1);
     std::normal_distribution<double> nd(0.0, 1.0);
     for (int round = 0; round < 12; ++round) {
-      const Eigen::MatrixXd m = dense_m<Qp>(ref, ws.data(), delta, w, wa);
+      constexpr bool exact = arbor::qp::detail::ExactRowBackend<Backend, double, nv, na>;
+      const Eigen::MatrixXd m = dense_m<Qp>(ref, ws.data(), delta, w, wa, exact);
       for (int i = 0; i < nv; ++i)
         b(i) = nd(rng);
-      const Eigen::VectorXd xr = m.llt().solve(Eigen::VectorXd(b));
       x = b;
-      {
-        arbor::test::NoAllocScope guard;
-        be.solve(x);
+      if constexpr (exact) {
+        // [M D'; D 0] [x; nu] = [b; e] with D the dynamics rows of A
+        constexpr int nd_rows = N * NX;
+        Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(nv + nd_rows, nv + nd_rows);
+        Eigen::VectorXd rhs(nv + nd_rows);
+        Eigen::Matrix<double, na, 1> e;
+        e.setZero();
+        kkt.topLeftCorner(nv, nv) = m;
+        rhs.head(nv) = b;
+        int c = 0;
+        for (int j = 0; j < na; ++j) {
+          if (!is_dynamics_row<Qp>(j))
+            continue;
+          e(j) = nd(rng);
+          kkt.block(nv + c, 0, 1, nv) = ref.A.row(j);
+          kkt.block(0, nv + c, nv, 1) = ref.A.row(j).transpose();
+          rhs(nv + c) = e(j);
+          ++c;
+        }
+        const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
+        {
+          arbor::test::NoAllocScope guard;
+          be.solve_exact(x, e);
+        }
+        Eigen::VectorXd got(nv + nd_rows);
+        got.head(nv) = x;
+        c = 0;
+        for (int j = 0; j < na; ++j) {
+          if (is_dynamics_row<Qp>(j))
+            got(nv + c++) = e(j);
+        }
+        const double res = (kkt * got - rhs).cwiseAbs().maxCoeff();
+        EXPECT_LE(res, 1e-12 * (1 + kkt.cwiseAbs().maxCoeff() * sol.cwiseAbs().maxCoeff()))
+            << "round " << round << " error " << (got - sol).cwiseAbs().maxCoeff();
+      } else {
+        const Eigen::VectorXd xr = m.llt().solve(Eigen::VectorXd(b));
+        {
+          arbor::test::NoAllocScope guard;
+          be.solve(x);
+        }
+        // relative to the solution's size: M has entries up to ~1e6 and is ill-conditioned
+        const double err = (Eigen::VectorXd(x) - xr).cwiseAbs().maxCoeff();
+        const double res = (m * Eigen::VectorXd(x) - Eigen::VectorXd(b)).cwiseAbs().maxCoeff();
+        EXPECT_LE(res, 1e-12 * (1 + m.cwiseAbs().maxCoeff() * xr.cwiseAbs().maxCoeff()))
+            << "round " << round << " error " << err;
       }
-      // relative to the solution's size: M has entries up to ~1e6 and is ill-conditioned
-      const double err = (Eigen::VectorXd(x) - xr).cwiseAbs().maxCoeff();
-      const double res = (m * Eigen::VectorXd(x) - Eigen::VectorXd(b)).cwiseAbs().maxCoeff();
-      EXPECT_LE(res, 1e-12 * (1 + m.cwiseAbs().maxCoeff() * xr.cwiseAbs().maxCoeff()))
-          << "round " << round << " error " << err;
       // 1-3 working-set changes (adds, drops, side switches) between the solves
       const int changes = 1 + round % 3;
       for (int ch = 0; ch < changes; ++ch) {
@@ -133,6 +183,17 @@ TEST(QpBackend, DefaultMatchesDenseThroughUpdates) {
   check_backend<Blocked, Default<Blocked>>(400, 20);
 }
 
+template <typename Qp>
+using Riccati =
+    arbor::qp::detail::OcpRiccatiBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+
+TEST(QpBackend, RiccatiMatchesDenseKktThroughUpdates) {
+  check_backend<Small, Riccati<Small>>(100, 20);
+  check_backend<NoInput, Riccati<NoInput>>(200, 20);
+  check_backend<Wide, Riccati<Wide>>(300, 20);
+  check_backend<Blocked, Riccati<Blocked>>(400, 20);
+}
+
 TEST(QpBackend, ReferenceMatchesDenseThroughUpdates) {
   check_backend<Small, Reference<Small>>(100, 20);
   check_backend<Wide, Reference<Wide>>(300, 20);
@@ -163,6 +224,35 @@ TEST(QpBackend, WorkingSetChangeIsAnUpdate) {
   be.mark_changed(1);
   EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
   EXPECT_EQ(be.updates_last, 0);
+}
+
+/// The Riccati backend updates too: a change in the last path stage sweeps the stages before it
+/// by rank-one updates instead of refactorizing them.
+TEST(QpBackend, RiccatiWorkingSetChangeIsAnUpdate) {
+  using Qp = Small;
+  static Qp qp;
+  static Riccati<Qp> be;
+  static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
+  std::mt19937 rng(7);
+  t::random_ocp(qp, rng, t::RandomOcpOptions{});
+  for (auto& s : ws)
+    s = ConstraintState::inactive;
+  Eigen::Matrix<double, Qp::na, 1> wa;
+  be.p = &qp;
+  be.row_norms_sq(wa);
+  for (int j = 0; j < Qp::na; ++j)
+    wa(j) = 1e6 / wa(j);
+  be.mark_all();
+  ASSERT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), Qp::horizon + 1);
+  const int i = Qp::state_offset(Qp::horizon - 1) + 1;  // a bound of x_{N-1}
+  ws[i] = ConstraintState::upper;
+  be.mark_changed(i);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 1);
+  ws[i] = ConstraintState::inactive;  // and removed again: a downdate
+  be.mark_changed(i);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 1);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -21,9 +22,9 @@ namespace {
 using arbor::qp::DenseQpProblem;
 using arbor::qp::DenseQpSolver;
 using arbor::qp::OcpQp;
-using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
 using arbor::qp::to_string;
+using arbor::qp::test::OcpQpSolver;
 namespace t = arbor::qp::test;
 
 template <int N, int NX, int NU, int NG, int NGN>

@@ -12,6 +12,7 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
+#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {

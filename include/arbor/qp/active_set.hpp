@@ -508,9 +508,16 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
+  // rows the backend solves exactly (ExactRowBackend: the OCP's dynamics) take no weight
+  const auto exact = [](int j) {
+    if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>)
+      return Backend::exact_row(j);
+    else
+      return false;
+  };
   tmpa_.setZero();
   for (int j = 0; j < NA; ++j) {
-    if (ws[NV + j] != State::inactive)
+    if (ws[NV + j] != State::inactive && !exact(j))
       tmpa_(j) = wa_(j) * (za_(j) - target(NV + j));
   }
   be.cons_tmul(tmpa_, dx_);
@@ -519,11 +526,23 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
     if (ws[i] != State::inactive)
       dx_(i) -= w_ * (x(i) - target(i));
   }
-  be.solve(dx_);
+  if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>) {
+    // D dx = t_D - D x; the backend returns dlam of the exact rows in their entries of tmpa_
+    for (int j = 0; j < NA; ++j) {
+      if (exact(j))
+        tmpa_(j) = target(NV + j) - za_(j);
+    }
+    be.solve_exact(dx_, tmpa_);
+  } else {
+    be.solve(dx_);
+  }
   be.cons_mul(dx_, dza_);
   for (int i = 0; i < nz; ++i) {
     const Scalar wi = i < NV ? w_ : wa_(i - NV);
-    const Scalar d = ws[i] != State::inactive ? wi * (zval(i) - target(i) + dzval(i)) : -lam(i);
+    const Scalar d =
+        i >= NV && exact(i - NV)
+            ? tmpa_(i - NV)
+            : (ws[i] != State::inactive ? wi * (zval(i) - target(i) + dzval(i)) : -lam(i));
     if (i < NV) {
       dlam_x_(i) = d;
     } else {

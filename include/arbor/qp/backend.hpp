@@ -3,8 +3,10 @@
 // states both sides read. Declarations only: no code runs here.
 //
 // A backend owns the factorization of M = H + delta I + A_W' E A_W (active_set.hpp) for the
-// working set W, and the products with the problem's H and A. Sizes are fixed at compile time
-// and no member may allocate.
+// working set W, and the products with the problem's H and A (PenalisedBackend), or the
+// factorization of the KKT matrix of the rows it solves exactly with M of the others
+// (ExactRowBackend: ocp_riccati_backend.hpp, the dynamics rows by a Riccati recursion). Sizes
+// are fixed at compile time and no member may allocate.
 #pragma once
 
 #include <Eigen/Core>
@@ -28,24 +30,51 @@ constexpr Scalar side_sign(ConstraintState c) {
   return Scalar(static_cast<std::int8_t>(c));
 }
 
-/// Linear algebra of the active-set method on a QP with NV variables and NA rows; z indices are
-/// flat: bounds 0..NV-1, then rows NV..NV+NA-1.
+/// What every backend provides, for a QP with NV variables and NA rows; z indices are flat:
+/// bounds 0..NV-1, then rows NV..NV+NA-1.
 template <typename B, typename Scalar, int NV, int NA>
-concept ActiveSetBackend = requires(B& b, const B& cb, const Eigen::Matrix<Scalar, NV, 1>& v,
-                                    Eigen::Matrix<Scalar, NV, 1>& v_out,
-                                    const Eigen::Matrix<Scalar, NA, 1>& a,
-                                    Eigen::Matrix<Scalar, NA, 1>& a_out, const ConstraintState* ws,
-                                    Scalar s, int i) {
+concept BackendProducts = requires(B& b, const B& cb, const Eigen::Matrix<Scalar, NV, 1>& v,
+                                   Eigen::Matrix<Scalar, NV, 1>& v_out,
+                                   const Eigen::Matrix<Scalar, NA, 1>& a,
+                                   Eigen::Matrix<Scalar, NA, 1>& a_out, const ConstraintState* ws,
+                                   Scalar s, int i) {
   cb.hess_mul(v, v_out);   // v_out = H v
   cb.cons_mul(v, a_out);   // a_out = A v
   cb.cons_tmul(a, v_out);  // v_out = A' a
   cb.row_norms_sq(a_out);  // a_out_j = |a_j|^2
   b.mark_changed(i);       // constraint i changed state: refactorize what it touches
   b.mark_all();            // everything must be refactorized (new data, new delta)
-  // factorizes M for the working set ws[0..NV+NA) with delta, the bound weight w = 1/eps
+  // factorizes for the working set ws[0..NV+NA) with delta, the bound weight w = 1/eps
   // and the row weights a; returns the number of blocks factorized, -1 on a pivot failure
   { b.factorize(ws, s, s, a) } -> std::same_as<int>;
+};
+
+/// A backend that treats every working constraint by the proximal weights: it factorizes
+/// M = H + delta I + A_W' E A_W and solves with it.
+template <typename B, typename Scalar, int NV, int NA>
+concept PenalisedBackend = BackendProducts<B, Scalar, NV, NA> &&
+    requires(const B& cb, Eigen::Matrix<Scalar, NV, 1>& v_out) {
   cb.solve(v_out);  // v_out <- M^-1 v_out
 };
+
+/// A backend that solves some rows exactly (the OCP's dynamics, by a Riccati recursion): the
+/// rows j with exact_row(j) are equalities, always in the working set, and take no proximal
+/// weight; it factorizes the KKT matrix [M_P D'; D 0] with M_P = H + delta I + A_P' E A_P (A_P:
+/// the other working rows and bounds, D: the exact rows) and solve_exact(v, a) solves
+///   M_P dx + D' dnu = v,   D dx = a_D
+/// in place: v <- dx, a_j <- dnu_j on the exact rows (the other entries of a are not read and
+/// keep their values).
+template <typename B, typename Scalar, int NV, int NA>
+concept ExactRowBackend = BackendProducts<B, Scalar, NV, NA> &&
+    requires(const B& cb, Eigen::Matrix<Scalar, NV, 1>& v_out, Eigen::Matrix<Scalar, NA, 1>& a_out,
+             int j) {
+  { B::exact_row(j) } -> std::same_as<bool>;
+  cb.solve_exact(v_out, a_out);
+};
+
+/// Linear algebra of the active-set method: either kind.
+template <typename B, typename Scalar, int NV, int NA>
+concept ActiveSetBackend =
+    PenalisedBackend<B, Scalar, NV, NA> || ExactRowBackend<B, Scalar, NV, NA>;
 
 }  // namespace arbor::qp::detail

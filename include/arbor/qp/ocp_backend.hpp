@@ -125,40 +125,18 @@ void pack_lower(const Scalar* a, Scalar* l) {
   }
 }
 
-/// Block-elimination backend with rank-one updates for ActiveSetCore on an OcpQp (the default).
+/// The products with the data of an OcpQp that every OCP backend needs (H v, A v, A' v, the
+/// squared row norms) and the stage of a flat constraint index; the problem is referenced.
 template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
-struct OcpBackend {
+struct OcpProducts {
   using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
   static constexpr int NW = NX + NU;
   static constexpr int NV = Problem::nv;
   static constexpr int NA = Problem::na;
-  static constexpr int NZ = NV + NA;
-  /// Pending working-set changes kept for rank-one updates; more refactorize instead.
-  static constexpr int max_pending = 8;
-  /// Updates applied since the last full factorization before the next one is full.
-  static constexpr int max_updates = 2 * N + 8;
   using VecV = Eigen::Matrix<Scalar, NV, 1>;
   using VecA = Eigen::Matrix<Scalar, NA, 1>;
-  using VecW = Eigen::Matrix<Scalar, NW, 1>;
-  using VecX = Eigen::Matrix<Scalar, NX, 1>;
-  using MatW = Eigen::Matrix<Scalar, NW, NW>;
-  using MatXW = Eigen::Matrix<Scalar, NX, NW>;
-  using MatX = Eigen::Matrix<Scalar, NX, NX>;
-  static constexpr int PW = kernels::packed_size(NW);  ///< scalars of a packed L_kk
-  static constexpr int PX = kernels::packed_size(NX);  ///< scalars of the packed L_NN
 
-  const Problem* p = nullptr;                    ///< referenced problem
-  std::array<std::array<Scalar, PW>, N> l_diag;  ///< L_kk, packed lower triangle
-  std::array<MatXW, N> l_off;                    ///< X_k = L_{k+1,k}, rows of x_{k+1}
-  std::array<Scalar, PX> l_term;                 ///< L_NN, packed lower triangle
-  int dirty_from = 0;                            ///< first stage to refactorize (N+1: none)
-  int updates = 0;                          ///< rank-one updates since the last full factorization
-  int updates_last = 0;                     ///< rank-one updates made by the last factorize()
-  std::array<int, max_pending> pending{};   ///< changed constraints not yet in the factor
-  int n_pending = 0;                        ///< how many
-  std::array<std::int8_t, NZ> in_factor{};  ///< 1: constraint i is active in the factor
-  Scalar w_ = 0;                            ///< bound weight of the factor
-  Scalar delta_ = 0;                        ///< delta of the factor
+  const Problem* p = nullptr;  ///< referenced problem
 
   void hess_mul(const VecV& x, VecV& y) const {
     for (int k = 0; k < N; ++k) {
@@ -212,6 +190,55 @@ struct OcpBackend {
     const int k = i < NV ? i / NW : (i - NV) / (NX + NG);
     return k < N ? k : N;
   }
+  void row_norms_sq(VecA& n) const {
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      const int r = k * (NX + NG);
+      n.template segment<NX>(r) = s.A.rowwise().squaredNorm() + s.B.rowwise().squaredNorm();
+      n.template segment<NX>(r).array() += Scalar(1);
+      n.template segment<NG>(r + NX) = s.C.rowwise().squaredNorm() + s.D.rowwise().squaredNorm();
+    }
+    n.template tail<NGN>() = p->terminal.C.rowwise().squaredNorm();
+  }
+};
+
+/// Block-elimination backend with rank-one updates for ActiveSetCore on an OcpQp (the default).
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
+  using Products = OcpProducts<Scalar, N, NX, NU, NG, NGN>;
+  using Products::p;
+  using Products::stage_of;
+  using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
+  static constexpr int NW = NX + NU;
+  static constexpr int NV = Problem::nv;
+  static constexpr int NA = Problem::na;
+  static constexpr int NZ = NV + NA;
+  /// Pending working-set changes kept for rank-one updates; more refactorize instead.
+  static constexpr int max_pending = 8;
+  /// Updates applied since the last full factorization before the next one is full.
+  static constexpr int max_updates = 2 * N + 8;
+  using VecV = Eigen::Matrix<Scalar, NV, 1>;
+  using VecA = Eigen::Matrix<Scalar, NA, 1>;
+  using VecW = Eigen::Matrix<Scalar, NW, 1>;
+  using VecX = Eigen::Matrix<Scalar, NX, 1>;
+  using MatW = Eigen::Matrix<Scalar, NW, NW>;
+  using MatXW = Eigen::Matrix<Scalar, NX, NW>;
+  using MatX = Eigen::Matrix<Scalar, NX, NX>;
+  static constexpr int PW = kernels::packed_size(NW);  ///< scalars of a packed L_kk
+  static constexpr int PX = kernels::packed_size(NX);  ///< scalars of the packed L_NN
+
+  std::array<std::array<Scalar, PW>, N> l_diag;  ///< L_kk, packed lower triangle
+  std::array<MatXW, N> l_off;                    ///< X_k = L_{k+1,k}, rows of x_{k+1}
+  std::array<Scalar, PX> l_term;                 ///< L_NN, packed lower triangle
+  int dirty_from = 0;                            ///< first stage to refactorize (N+1: none)
+  int updates = 0;                          ///< rank-one updates since the last full factorization
+  int updates_last = 0;                     ///< rank-one updates made by the last factorize()
+  std::array<int, max_pending> pending{};   ///< changed constraints not yet in the factor
+  int n_pending = 0;                        ///< how many
+  std::array<std::int8_t, NZ> in_factor{};  ///< 1: constraint i is active in the factor
+  Scalar w_ = 0;                            ///< bound weight of the factor
+  Scalar delta_ = 0;                        ///< delta of the factor
+
   void mark_changed(int i) {
     if (n_pending < max_pending) {
       pending[n_pending++] = i;
@@ -224,17 +251,6 @@ struct OcpBackend {
   void mark_all() {
     dirty_from = 0;
     n_pending = 0;
-  }
-
-  void row_norms_sq(VecA& n) const {
-    for (int k = 0; k < N; ++k) {
-      const auto& s = p->stage[k];
-      const int r = k * (NX + NG);
-      n.template segment<NX>(r) = s.A.rowwise().squaredNorm() + s.B.rowwise().squaredNorm();
-      n.template segment<NX>(r).array() += Scalar(1);
-      n.template segment<NG>(r + NX) = s.C.rowwise().squaredNorm() + s.D.rowwise().squaredNorm();
-    }
-    n.template tail<NGN>() = p->terminal.C.rowwise().squaredNorm();
   }
 
   int factorize(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {

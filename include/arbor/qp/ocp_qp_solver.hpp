@@ -32,6 +32,7 @@
 #include "arbor/qp/data_checks.hpp"
 #include "arbor/qp/ocp_backend.hpp"
 #include "arbor/qp/ocp_cholesky_backend.hpp"
+#include "arbor/qp/ocp_riccati_backend.hpp"
 #include "arbor/qp/problem.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/solver_base.hpp"
@@ -46,6 +47,13 @@ struct DefaultOcpBackend;
 template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
 struct DefaultOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   using type = OcpBackend<Scalar, N, NX, NU, NG, NGN>;
+};
+/// The exact-dynamics Riccati backend (ocp_riccati_backend.hpp) of OcpQpSolver<Qp, ...>.
+template <typename Qp>
+struct RiccatiOcpBackend;
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+struct RiccatiOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
+  using type = OcpRiccatiBackend<Scalar, N, NX, NU, NG, NGN>;
 };
 }  // namespace detail
 

@@ -1,0 +1,462 @@
+// arbor::qp::detail: exact-dynamics linear algebra of the OCP solver: a backward square-root
+// Riccati recursion on the stage blocks, with the dynamics rows solved exactly (no proximal
+// weight) and their multipliers (the costates) returned by the solve; an ExactRowBackend
+// (backend.hpp).
+//
+// Each iteration of the active-set method (active_set.hpp) solves, for the working set W,
+//   G dx + D' dnu = f,   D dx = e
+// with D the dynamics rows dyn_k = x_{k+1} - A_k x_k - B_k u_k (exact), G block diagonal: the
+// stage Hessian [Q S'; S R] plus delta I, the weight w of the active bounds and e_j c_j c_j' of the
+// active path rows (the proximal terms of active_set.hpp, unchanged). Per stage, with the stage
+// variables ordered (u_k, x_k) and F_k = [B_k A_k]:
+//   P_N = G_N = L_N L_N'
+//   M_k = G_k + F_k' P_{k+1} F_k = L_k L_k'    (Cholesky, NW = NU + NX; (u, x) order)
+//   P_k = Lxx_k Lxx_k'                         (the Schur complement of u_k in M_k: the trailing
+//                                               NX x NX block of L_k, no extra work)
+// F_k' P_{k+1} F_k is formed as T' T with T = Lxx_{k+1}' F_k (triangular times dense). Per stage
+// in multiply-adds: NX^2 NW / 2 (T) + NW (NW+1) NX / 2 (T' T) + NW^3 / 6 (Cholesky):
+// 3.1 k + 4.8 k + 2.3 k = 10.2 k for NX = 16, NU = 8 (the penalised elimination of
+// ocp_backend.hpp: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
+// solve_exact(): backward, h_k = f_k + F_k' Lxx_{k+1} (y_{x,k+1} - Lxx_{k+1}' e_k), y_k =
+// L_k^-1 h_k; forward, from dx_0 = L_0^-T y_0: du_k = Luu^-T (y_u - Lxu' dx_k), the costate
+// dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~2 NW^2 + 3 NX NW + 2 NX^2
+// multiply-adds per stage.
+// Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
+// (downdate) of L_k leaves, after its u columns, the vector v^ with P_k +-= v^ v^', so M_{k-1}
+// changes by +-(F_{k-1}' v^)(F_{k-1}' v^)': one sweep from stage k down to stage 0,
+// O(NW^2 + NX NW) per stage. An unsafe downdate (r^2 < sqrt(eps) L_jj^2) refactorizes stages
+// k..0 instead (k + 1 stage factorizations); after max_updates updates the next factorization
+// is a full one.
+// Memory (scalars): N NW (NW+1)/2 + NX (NX+1)/2 for the factor (no off-diagonal blocks: ~49 KB
+// less than ocp_backend.hpp at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
+// scratch, T and an unpacked Lxx during a stage's factorization.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "arbor/qp/backend.hpp"
+#include "arbor/qp/kernels.hpp"
+#include "arbor/qp/ocp_backend.hpp"
+#include "arbor/qp/problem.hpp"
+
+namespace arbor::qp::detail {
+
+/// Exact-dynamics Riccati backend for ActiveSetCore on an OcpQp (see the top of this file).
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
+  using Products = OcpProducts<Scalar, N, NX, NU, NG, NGN>;
+  using Products::p;
+  using Products::stage_of;
+  using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
+  static constexpr int NW = NX + NU;
+  static constexpr int NR = NX + NG;  ///< rows per path stage
+  static constexpr int NV = Problem::nv;
+  static constexpr int NA = Problem::na;
+  static constexpr int NZ = NV + NA;
+  /// Pending working-set changes kept for rank-one updates; more refactorize instead.
+  static constexpr int max_pending = 8;
+  /// Updates applied since the last full factorization before the next one is full.
+  static constexpr int max_updates = 2 * N + 8;
+  using VecV = Eigen::Matrix<Scalar, NV, 1>;
+  using VecA = Eigen::Matrix<Scalar, NA, 1>;
+  using VecW = Eigen::Matrix<Scalar, NW, 1>;
+  using VecX = Eigen::Matrix<Scalar, NX, 1>;
+  using MatW = Eigen::Matrix<Scalar, NW, NW>;
+  using MatX = Eigen::Matrix<Scalar, NX, NX>;
+  static constexpr int PW = kernels::packed_size(NW);  ///< scalars of a packed L_k
+  static constexpr int PX = kernels::packed_size(NX);  ///< scalars of the packed L_N
+
+  std::array<std::array<Scalar, PW>, N> l_stage;  ///< L_k, packed lower, (u, x) order
+  std::array<Scalar, PX> l_term;                  ///< L_N, packed lower
+  int dirty_to = N;      ///< stages dirty_to..0 must be refactorized (-1: none; N: terminal too)
+  int updates = 0;       ///< rank-one updates since the last full factorization
+  int updates_last = 0;  ///< rank-one updates made by the last factorize()
+  std::array<int, max_pending> pending{};   ///< changed constraints not yet in the factor
+  int n_pending = 0;                        ///< how many
+  std::array<std::int8_t, NZ> in_factor{};  ///< 1: constraint i is active in the factor
+  Scalar w_ = 0;                            ///< bound weight of the factor
+  Scalar delta_ = 0;                        ///< delta of the factor
+
+  /// The rows solved exactly: the dynamics rows dyn_k, k < N.
+  static constexpr bool exact_row(int j) { return j < N * NR && j % NR < NX; }
+
+  void mark_changed(int i) {
+    if (n_pending < max_pending) {
+      pending[n_pending++] = i;
+      return;
+    }
+    const int k = stage_of(i);
+    if (k > dirty_to)
+      dirty_to = k;
+  }
+  void mark_all() {
+    dirty_to = N;
+    n_pending = 0;
+  }
+
+  int factorize(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
+    updates_last = 0;
+    if (dirty_to < N && (delta != delta_ || w != w_ || updates >= max_updates))
+      dirty_to = N;
+    if (dirty_to == N) {
+      n_pending = 0;
+      updates = 0;
+    }
+    delta_ = delta;
+    w_ = w;
+    // changes in stages after dirty_to: rank-one sweeps where they are safe
+    for (int c = 0; c < n_pending; ++c) {
+      const int i = pending[c];
+      const int k = stage_of(i);
+      const std::int8_t now = ws[i] != ConstraintState::inactive ? 1 : 0;
+      if (k <= dirty_to || now == in_factor[i])
+        continue;
+      if (rank_one(i, k, now != 0, w, wa)) {
+        in_factor[i] = now;
+        ++updates;
+        ++updates_last;
+      } else {
+        dirty_to = k;
+      }
+    }
+    n_pending = 0;
+    int done = 0;
+    if (dirty_to == N) {
+      if (!factor_terminal(ws, delta, w, wa))
+        return -1;
+      ++done;
+    }
+    for (int k = (dirty_to < N ? dirty_to : N - 1); k >= 0; --k, ++done) {
+      if (!factor_stage(k, ws, delta, w, wa))
+        return -1;
+    }
+    if (dirty_to >= 0) {
+      const int kend = dirty_to + 1;  // constraints of stages 0..dirty_to are in the factor
+      const int nb = kend * NW < NV ? kend * NW : NV;
+      for (int i = 0; i < nb; ++i)
+        in_factor[i] = ws[i] != ConstraintState::inactive ? 1 : 0;
+      const int nr = kend * NR < NA ? kend * NR : NA;
+      for (int i = NV; i < NV + nr; ++i)
+        in_factor[i] = ws[i] != ConstraintState::inactive ? 1 : 0;
+    }
+    dirty_to = -1;
+    return done;
+  }
+
+  /// v <- dx, a_D <- dnu (backend.hpp, ExactRowBackend); a_D holds e on entry.
+  void solve_exact(VecV& v, VecA& a) const {
+    Scalar* f = v.data();
+    // backward: y_k = L_k^-1 h_k, kept in v's stage segment in (u, x) order
+    Scalar* yn = f + N * NW;
+    solve_lower_packed<NX>(l_term.data(), yn);
+    const Scalar* ynext = yn;  // y_{x,k+1}
+    const Scalar* lnext = l_term.data();
+    int nnext = NX;  // order of the packed factor holding Lxx_{k+1} (its trailing NX block)
+    for (int k = N - 1; k >= 0; --k) {
+      const auto& s = p->stage[k];
+      Scalar* fk = f + k * NW;
+      // r = y_{x,k+1} - Lxx_{k+1}' e_k, then s = Lxx_{k+1} r
+      VecX r, sx;
+      const Scalar* ek = a.data() + k * NR;
+      if (nnext == NX) {
+        lt_mul_tail<NX>(lnext, ek, r.data());
+      } else {
+        lt_mul_tail<NW>(lnext, ek, r.data());
+      }
+      for (int i = 0; i < NX; ++i)
+        r(i) = ynext[i] - r(i);
+      if (nnext == NX) {
+        l_mul_tail<NX>(lnext, r.data(), sx.data());
+      } else {
+        l_mul_tail<NW>(lnext, r.data(), sx.data());
+      }
+      // h = [f_u; f_x] + [B A]' s
+      VecW h;
+      h.template head<NU>() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX);
+      h.template head<NU>().noalias() += s.B.transpose() * sx;
+      h.template tail<NX>() = Eigen::Map<const VecX>(fk);
+      h.template tail<NX>().noalias() += s.A.transpose() * sx;
+      solve_lower_packed<NW>(l_stage[k].data(), h.data());
+      Eigen::Map<VecW>{fk} = h;
+      ynext = fk + NU;
+      lnext = l_stage[k].data();
+      nnext = NW;
+    }
+    // forward: stage 0 solves its whole block (x_0 has no costate before it)
+    VecW dw;  // (u, x) order
+    dw = Eigen::Map<const VecW>(f);
+    solve_lower_transposed_packed<NW>(l_stage[0].data(), dw.data());
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      Scalar* fk = f + k * NW;
+      if (k > 0) {
+        // dw holds [y_u; dx_k]: the costate of x_k, then du_k
+        Scalar* nu = a.data() + (k - 1) * NR;
+        costate<NW>(l_stage[k].data(), fk + NU, dw.data() + NU, nu);
+        for (int i = 0; i < NU; ++i)
+          dw(i) = fk[i];
+        solve_lower_transposed_head<NW, NU>(l_stage[k].data(), dw.data());
+      }
+      // dx_{k+1} = A dx_k + B du_k + e_k
+      VecX xn = Eigen::Map<const VecX>(a.data() + k * NR);
+      xn.noalias() += s.A * dw.template tail<NX>();
+      xn.noalias() += s.B * dw.template head<NU>();
+      Eigen::Map<VecX>{fk} = dw.template tail<NX>();
+      Eigen::Map<Eigen::Matrix<Scalar, NU, 1>>(fk + NX) = dw.template head<NU>();
+      dw.template tail<NX>() = xn;
+    }
+    Scalar* fn = f + N * NW;
+    costate<NX>(l_term.data(), fn, dw.data() + NU, a.data() + (N - 1) * NR);
+    Eigen::Map<VecX>{fn} = dw.template tail<NX>();
+  }
+
+ private:
+  /// Column j of the packed lower triangle of order n, indexed by row: col(l, j)[r] = L(r, j).
+  template <int n>
+  static const Scalar* col(const Scalar* l, int j) {
+    return l + kernels::packed_col(n, j) - j;
+  }
+  template <int n>
+  static Scalar* col(Scalar* l, int j) {
+    return l + kernels::packed_col(n, j) - j;
+  }
+
+  /// out = Lxx' v, Lxx the trailing NX x NX block of the packed lower l (order n).
+  template <int n>
+  static void lt_mul_tail(const Scalar* l, const Scalar* v, Scalar* out) {
+    constexpr int o = n - NX;
+    for (int i = 0; i < NX; ++i) {
+      const Scalar* c = col<n>(l, o + i) + o;
+      Scalar t = 0;
+      for (int r = i; r < NX; ++r)
+        t += c[r] * v[r];
+      out[i] = t;
+    }
+  }
+
+  /// out = Lxx v, Lxx the trailing NX x NX block of the packed lower l (order n).
+  template <int n>
+  static void l_mul_tail(const Scalar* l, const Scalar* v, Scalar* out) {
+    constexpr int o = n - NX;
+    for (int r = 0; r < NX; ++r)
+      out[r] = 0;
+    for (int i = 0; i < NX; ++i) {
+      const Scalar* c = col<n>(l, o + i) + o;
+      const Scalar vi = v[i];
+      for (int r = i; r < NX; ++r)
+        out[r] += c[r] * vi;
+    }
+  }
+
+  /// nu = Lxx (y_x - Lxx' dx), Lxx the trailing block of the packed lower l (order n).
+  template <int n>
+  static void costate(const Scalar* l, const Scalar* yx, const Scalar* dx, Scalar* nu) {
+    Scalar t[NX];
+    lt_mul_tail<n>(l, dx, t);
+    for (int i = 0; i < NX; ++i)
+      t[i] = yx[i] - t[i];
+    l_mul_tail<n>(l, t, nu);
+  }
+
+  /// Back substitution L' b = c for the first m unknowns, the last n - m (already final) given.
+  template <int n, int m>
+  static void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
+    for (int j = m - 1; j >= 0; --j) {
+      const Scalar* cj = col<n>(l, j);
+      Scalar s = b[j];
+      for (int r = j + 1; r < n; ++r)
+        s -= cj[r] * b[r];
+      b[j] = s / cj[j];
+    }
+  }
+
+  /// D(c:n, c) += wgt a_c a(c:n) for every column c.
+  template <typename Mat, typename Vec>
+  static void add_rank_one_lower(Mat& d, const Vec& a, Scalar wgt) {
+    constexpr int n = Mat::RowsAtCompileTime;
+    for (int c = 0; c < n; ++c) {
+      const Scalar s = wgt * a(c);
+      if (s == Scalar(0))
+        continue;
+      for (int r = c; r < n; ++r)
+        d(r, c) += s * a(r);
+    }
+  }
+
+  /// Row j of [D_j C_j] of path stage k in (u, x) order.
+  VecW path_row(int k, int j) const {
+    const auto& s = p->stage[k];
+    VecW a;
+    for (int c = 0; c < NU; ++c)
+      a(c) = s.D(j, c);
+    for (int c = 0; c < NX; ++c)
+      a(NU + c) = s.C(j, c);
+    return a;
+  }
+
+  /// Unpacks the trailing NX x NX block of the packed lower l (order n) into u (zeros above).
+  template <int n>
+  static void unpack_tail(const Scalar* l, MatX& u) {
+    constexpr int o = n - NX;
+    for (int i = 0; i < NX; ++i) {
+      const Scalar* c = col<n>(l, o + i) + o;
+      for (int r = 0; r < i; ++r)
+        u(r, i) = 0;
+      for (int r = i; r < NX; ++r)
+        u(r, i) = c[r];
+    }
+  }
+
+  bool factor_stage(int k, const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
+    using namespace kernels;
+    const auto& s = p->stage[k];
+    MatW d;  // M_k in (u, x) order, then L_k (full square scratch)
+    d.template topLeftCorner<NU, NU>() = s.R;
+    d.template bottomLeftCorner<NX, NU>() = s.S.transpose();
+    d.template topRightCorner<NU, NX>() = s.S;
+    d.template bottomRightCorner<NX, NX>() = s.Q;
+    const ConstraintState* wsb = ws + k * NW;
+    for (int i = 0; i < NX; ++i)
+      d(NU + i, NU + i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0));
+    for (int i = 0; i < NU; ++i)
+      d(i, i) += delta + (wsb[NX + i] != ConstraintState::inactive ? w : Scalar(0));
+    const int r0 = k * NR;
+    for (int j = 0; j < NG; ++j) {
+      if (ws[NV + r0 + NX + j] == ConstraintState::inactive)
+        continue;
+      add_rank_one_lower(d, path_row(k, j), wa(r0 + NX + j));
+    }
+    // + F' P_{k+1} F = T' T, T = Lxx_{k+1}' F, F = [B A]; tt = T' (NW x NX), built as
+    // tt = F' Lxx_{k+1}: tt(c, i) = sum_{r >= i} F(r, c) Lxx(r, i), by blocks of 4 columns i
+    MatX lxx;
+    if (k == N - 1)
+      unpack_tail<NX>(l_term.data(), lxx);
+    else
+      unpack_tail<NW>(l_stage[k + 1].data(), lxx);
+    Eigen::Matrix<Scalar, NW, NX> ft, tt;
+    ft.template topRows<NU>() = s.B.transpose();
+    ft.template bottomRows<NX>() = s.A.transpose();
+    tt.setZero();
+    constexpr int full = NX - NX % nb;
+    for (int i0 = 0; i0 < full; i0 += nb) {
+      gemm_nt_cols<NW, nb, NW, 1, NX, NW, true>(tt.data() + i0 * NW, ft.data() + i0 * NW,
+                                                lxx.data() + i0 * (NX + 1), 0, 0, NX - i0);
+    }
+    if constexpr (NX % nb > 0) {
+      gemm_nt_cols<NW, NX % nb, NW, 1, NX, NW, true>(tt.data() + full * NW, ft.data() + full * NW,
+                                                     lxx.data() + full * (NX + 1), 0, 0, NX - full);
+    }
+    gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), tt.data(), tt.data(), NX);
+    if (!potrf_lower<NW>(d.data()))
+      return false;
+    pack_lower<NW>(d.data(), l_stage[k].data());
+    return true;
+  }
+
+  bool factor_terminal(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
+    using namespace kernels;
+    const auto& t = p->terminal;
+    MatX d = t.Q;
+    const ConstraintState* wsb = ws + N * NW;
+    for (int i = 0; i < NX; ++i)
+      d(i, i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0));
+    const int rg = N * NR;
+    for (int j = 0; j < NGN; ++j) {
+      if (ws[NV + rg + j] == ConstraintState::inactive)
+        continue;
+      VecX a;
+      for (int c = 0; c < NX; ++c)
+        a(c) = t.C(j, c);
+      add_rank_one_lower(d, a, wa(rg + j));
+    }
+    if (!potrf_lower<NX>(d.data()))
+      return false;
+    pack_lower<NX>(d.data(), l_term.data());
+    return true;
+  }
+
+  /// One column step of a rank-one update (sigma = +1) or downdate (-1) of the packed lower l
+  /// (order n) by v v' at column j. False when a downdate is unsafe (r^2 <= sqrt(eps) L_jj^2).
+  template <int n>
+  static bool rotate(Scalar* l, Scalar* v, int j, Scalar sigma, Scalar tol) {
+    const Scalar vj = v[j];
+    if (vj == Scalar(0))
+      return true;
+    Scalar* cj = col<n>(l, j);
+    const Scalar ljj = cj[j];
+    const Scalar l2 = ljj * ljj;
+    const Scalar r2 = l2 + sigma * vj * vj;
+    if (!(r2 > tol * l2) || !std::isfinite(r2))
+      return false;
+    const Scalar r = std::sqrt(r2);
+    const Scalar c = r / ljj, sn = vj / ljj, ic = ljj / r;
+    cj[j] = r;
+    v[j] = 0;
+    for (int i = j + 1; i < n; ++i) {
+      const Scalar li = (cj[i] + sigma * sn * v[i]) * ic;
+      cj[i] = li;
+      v[i] = c * v[i] - sn * li;
+    }
+    return true;
+  }
+
+  /// Adds (active) or removes the term of constraint i (stage k) by a rank-one sweep over stages
+  /// k..dirty_to+1; false when a downdate is unsafe (the caller refactorizes stages k..0).
+  bool rank_one(int i, int k, bool active, Scalar w, const VecA& wa) {
+    const Scalar sigma = active ? Scalar(1) : Scalar(-1);
+    const Scalar tol = std::sqrt(std::numeric_limits<Scalar>::epsilon());
+    VecX vx;  // the x part carried to the stage before
+    VecW v;
+    int s = k;
+    if (k == N) {
+      if (i < NV) {
+        vx.setZero();
+        vx(i - N * NW) = std::sqrt(w);
+      } else {
+        const int j = i - NV - N * NR;
+        const Scalar sw = std::sqrt(wa(i - NV));
+        for (int c = 0; c < NX; ++c)
+          vx(c) = sw * p->terminal.C(j, c);
+      }
+      VecX t = vx;
+      for (int j = 0; j < NX; ++j) {
+        if (!rotate<NX>(l_term.data(), t.data(), j, sigma, tol))
+          return false;
+      }
+      s = N - 1;
+    } else {
+      v.setZero();
+      if (i < NV) {
+        const int loc = i - k * NW;  // (x, u) flat -> (u, x)
+        v(loc < NX ? NU + loc : loc - NX) = std::sqrt(w);
+      } else {
+        const int j = i - NV - k * NR - NX;
+        v = std::sqrt(wa(i - NV)) * path_row(k, j);
+      }
+    }
+    for (; s > dirty_to && s >= 0; --s) {
+      if (s < k) {
+        const auto& st = p->stage[s];
+        v.template head<NU>().noalias() = st.B.transpose() * vx;
+        v.template tail<NX>().noalias() = st.A.transpose() * vx;
+      }
+      Scalar* l = l_stage[s].data();
+      for (int j = 0; j < NU; ++j) {
+        if (!rotate<NW>(l, v.data(), j, sigma, tol))
+          return false;
+      }
+      vx = v.template tail<NX>();
+      for (int j = NU; j < NW; ++j) {
+        if (!rotate<NW>(l, v.data(), j, sigma, tol))
+          return false;
+      }
+    }
+    return true;
+  }
+};
+
+}  // namespace arbor::qp::detail
