@@ -44,11 +44,16 @@ struct Options {
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
   /// The tunnel row as |e_p / radius|^2 - 1 <= 0 (order one) instead of |e_p|^2 - radius^2 <= 0
-  /// (make_problem's `scaled`). Float controllers need it: the float QP's primal tolerance (1e-4,
-  /// relative) is as large as the unscaled row (~1e-4 m^2), so the plant leaves the tunnel (see
-  /// README.md, "Float").
+  /// (make_problem's `scaled`). The QP measures a row's violation as a distance, invariant to
+  /// this scaling; the paper's SQP mode uses it (see README.md).
   bool scaled_tunnel = false;
 };
+
+/// QP primal tolerance of float controllers in real-time iteration. The float QP's default, 1e-4,
+/// is a distance relative to 1 + max(1, |x|_inf, ...) over the QP's variables, torques of ~10 N m
+/// among them: the tunnel row may end ~1.5 mm outside (the plant reached 11.4 mm); 1e-6 holds
+/// rho (README.md, "Float").
+constexpr double float_qp_tol_primal = 1e-6;
 
 /// The default timer of ContourLoop: the host's steady clock, in microseconds. A timer is a type
 /// with `Stamp now()` and `double elapsed(Stamp from, Stamp to)`.
@@ -126,9 +131,12 @@ class ContourLoop {
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());
     set = keep;
-    if constexpr (!is_float)  // (float keeps its own defaults)
+    if constexpr (!is_float) {
       if (!options_.sqp && options_.qp_tol > 0)
         set.qp.tol_primal = set.qp.tol_dual = set.qp.tol_comp = Scalar(options_.qp_tol);
+    } else if (!options_.sqp) {  // float keeps its dual and complementarity defaults (1e-4)
+      set.qp.tol_primal = Scalar(float_qp_tol_primal);
+    }
     if (options_.sqp) {
       // CONTOUR.md: primal 1e-3, dual 1e-1, at most 3 line-search steps; QP 1e-3 / 1e-1
       set.max_iter = options_.sqp_iter;

@@ -1,11 +1,11 @@
 // The contour-following NMPC (examples/contour: Kinova Gen3, OCP-FD, or OCP-ID with
 // CONTOUR_TEST_ID=1; analytical RBD derivatives, hard tunnel, real-time iteration) in closed loop
-// for 50 samples, on every target that builds it: the host and the Cortex-M7 in double (float,
-// CONTOUR_TEST_FLOAT=1, for the host and the Cortex-M4F, builds but is not registered: see
-// tests/contour/CMakeLists.txt). The loop (controller, plant, workspace)
+// for 50 samples, on every target that builds it: the host in double and float
+// (CONTOUR_TEST_FLOAT=1), the Cortex-M7 in double, the Cortex-M4F in float (the plant, in double,
+// is emulated in software there). The loop (controller, plant, workspace)
 // lives in static storage; every sample (plant step, shift, prepare, feedback) runs inside a
 // NoAllocScope (on bare metal the link-time heap trap does the same). Checked at every sample:
-// status, finite controls and states, the tunnel |e_p| <= rho (up to a margin per precision),
+// status, finite controls and states, the tunnel |e_p| <= rho (to 1 um),
 // torque, velocity and position limits, s not decreasing, one SQP step per sample; progress at the
 // end.
 //
@@ -128,16 +128,24 @@ void write_trajectory() {
 }
 #endif
 
-// Tolerances per precision. Tunnel: the controller plans inside rho - 0.1 mm (the back-off);
-// double holds rho, float (QP tolerances 1e-4 on a row of order rho^2 = 1e-4 m^2) is given
-// 0.5 mm beyond it. Trajectory against the host's: the same algorithm compiled for another
-// instruction set (FMA contraction, libm) differs in the last bits, which the closed loop
-// amplifies: 1e-6 (double), 2e-3 (float), relative to 1 + |x_i|.
-constexpr double kTunnelTol = CONTOUR_TEST_FLOAT ? 5e-4 : 1e-6;
+// Tolerances per precision. Tunnel: the controller plans inside rho - 0.1 mm (the back-off); the
+// plant stays inside rho in both precisions (float with the QP primal tolerance of
+// closed_loop.hpp's float_qp_tol_primal: 9.917 mm at most over a whole 318-sample run).
+constexpr double kTunnelTol = 1e-6;
 // Torque limits: OCP-FD applies u_0's torque, bounded exactly; OCP-ID bounds ID(q, qd, qdd) at the
 // plan's nodes, while the plant's 1 kHz computed-torque loop evaluates it along the true motion.
 constexpr double kTauTol = CONTOUR_TEST_ID ? 1e-2 : 1e-9;
-[[maybe_unused]] constexpr double kTrajectoryTol = CONTOUR_TEST_FLOAT ? 2e-3 : 1e-6;
+// Trajectory against the host's, relative to 1 + |x_i|: the same algorithm compiled for another
+// instruction set (FMA contraction, libm) differs in the last bits, which the closed loop
+// amplifies. Double: 1e-6 for every state. Float: the controller's linearisation and QP in 24 bits
+// give slightly different torques in two builds, each held over the 0.02 s sample: the joint
+// velocities show it most, the positions integrate it. Measured on the host over these 50 samples
+// (OCP-FD), float built with and without FMA contraction (-mfma -ffp-contract=fast; the Cortex-M4F
+// contracts too): q, s within 5.5e-5, qd, sd within 9.5e-3; float against the double
+// controller: 1.1e-4 and 5.8e-3. The tolerances are about 4x that: 2e-4 for the positions (q, s),
+// 4e-2 for the velocities (qd, sd).
+[[maybe_unused]] constexpr double kTrajectoryTolPos = CONTOUR_TEST_FLOAT ? 2e-4 : 1e-6;
+[[maybe_unused]] constexpr double kTrajectoryTolVel = CONTOUR_TEST_FLOAT ? 4e-2 : 1e-6;
 
 TEST(ContourTarget, ClosedLoop50Samples) {
 #if defined(ARBOR_BARE_METAL)
@@ -150,6 +158,7 @@ TEST(ContourTarget, ClosedLoop50Samples) {
     ASSERT_EQ(st, NmpcStatus::converged);
   }
   double s_prev = 0, tau_ratio = 0;
+  [[maybe_unused]] double dev_pos = 0, dev_vel = 0;  // largest deviation from the host's run
   for (int k = 0; k < kSamples; ++k) {
     Record& r = g_records[std::size_t(k)];
     {
@@ -174,7 +183,11 @@ TEST(ContourTarget, ClosedLoop50Samples) {
 #if ARBOR_TEST_HOST_VALUES
     for (int i = 0; i < nx; ++i) {
       const double h = host_x[k][i];
-      EXPECT_LE(std::fabs(r.x[i] - h), kTrajectoryTol * (1 + std::fabs(h)))
+      const bool velocity = (i >= nq && i < 2 * nq) || i == nx - 1;  // qd, sd
+      const double tol = velocity ? kTrajectoryTolVel : kTrajectoryTolPos;
+      const double d = std::fabs(r.x[i] - h) / (1 + std::fabs(h));
+      (velocity ? dev_vel : dev_pos) = std::max(velocity ? dev_vel : dev_pos, d);
+      EXPECT_LE(std::fabs(r.x[i] - h), tol * (1 + std::fabs(h)))
           << "sample " << k << " state " << i << ": target " << r.x[i] << ", host " << h;
     }
 #endif
@@ -198,6 +211,11 @@ TEST(ContourTarget, ClosedLoop50Samples) {
 #if defined(ARBOR_BARE_METAL)
   arbor::minitest::out() << "CONTOUR " << kFormName << " " << kScalarName << " max-tau/limit "
                          << tau_ratio << " s " << s_prev << "\n";
+#if ARBOR_TEST_HOST_VALUES
+  arbor::minitest::out() << "CONTOUR " << kFormName << " " << kScalarName
+                         << " deviation from the host (relative): q, s " << dev_pos << "; qd, sd "
+                         << dev_vel << "\n";
+#endif
   arbor::minitest::out().flush();
 #else
   std::printf("CONTOUR %s %s max-tau/limit %.6g s %.6g\n", kFormName, kScalarName, tau_ratio,
