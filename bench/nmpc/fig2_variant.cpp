@@ -15,8 +15,9 @@
 // compares the controls with ContourLoop::sample() in lockstep).
 // The RBD Jacobians inside a linearisation cannot be timed in place (they run inside the
 // expression layer), so after each linearisation, outside the timed calls, the same RBD Jacobian
-// calls (per path stage: FD x 4 (one RK4 step) or ID x 1, FramePose, FramePosition; terminal:
-// FramePose) are run on a workspace of the same type at the plan's points and timed.
+// calls (per path stage: FD x 4 (one RK4 step) or ID x 1, FramePose, the tunnel's position
+// (task.hpp's PosePosition: analytical, it takes the pose's position rows cached at the same q);
+// terminal: FramePose) are run on a workspace of the same type at the plan's points and timed.
 #include <chrono>
 #include <cmath>
 #include <memory>

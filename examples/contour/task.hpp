@@ -16,6 +16,9 @@
 //                     kinematics pass; analytical Jacobian from the frame Jacobian
 //                     (dR/dq_j = [w_j]x R), AutoDiff through the templates. The rotation error
 //                     e_R needs the rotation, which ad::FramePosition does not give.
+//   PosePosition<R, F> ad::FramePosition whose analytical Jacobian is the last FramePose's
+//                     position rows when taken at the same q (PoseCache in the workspace): the
+//                     tunnel and the stage cost evaluate the end effector at the same q.
 //   PayloadRobot      the Gen3 with a point mass at the end effector (plant-only model mismatch).
 #pragma once
 
@@ -24,6 +27,7 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
+#include <type_traits>
 
 #include <robots/kinova_gen3.hpp>
 #include "arbor/ad/expr.hpp"
@@ -153,22 +157,79 @@ struct FramePose {
       for (int c = 0; c < 3; ++c)
         J.template block<3, 1>(3 + 3 * c, j) = w.cross(VecN<T, 3>(M.R.col(c)));
     }
+    if constexpr (requires { ws.pose_cache; })
+      if constexpr (std::is_same_v<T, typename decltype(ws.pose_cache)::Scalar>)
+        ws.pose_cache.store(F, q, J.template topRows<3>(), M.p);
+  }
+};
+
+/// The position rows of the last analytical FramePose Jacobian and the q it was taken at, kept in
+/// a workspace that has a member `pose_cache` (Workspace below): the stage's tunnel
+/// (PosePosition) evaluates the frame position Jacobian at the q at which its stage cost has
+/// just evaluated the pose's, and takes them from here instead of a second kinematics sweep.
+template <class T>
+struct PoseCache {
+  using Scalar = T;
+  int frame = -1;             ///< the frame of p and J (-1: none stored yet)
+  VecN<T, nq> q;              ///< where p and J were taken
+  VecN<T, 3> p;               ///< frame position
+  Eigen::Matrix<T, 3, nq> J;  ///< its Jacobian (the pose Jacobian's first 3 rows)
+  template <class Q, class Jp, class P>
+  void store(int frame_, const Q& q_, const Jp& J_, const P& p_) {
+    frame = frame_;
+    q = q_;
+    J = J_;
+    p = p_;
+  }
+  /// p and J of frame_ at q_ if they were stored for frame_ at exactly q_ (bitwise; NaN never
+  /// matches).
+  bool lookup(int frame_, const VecN<T, nq>& q_, VecN<T, 3>& p_,
+              Eigen::Matrix<T, 3, nq>& J_) const {
+    if (frame != frame_ || !(q_.array() == q.array()).all())
+      return false;
+    p_ = p;
+    J_ = J;
+    return true;
+  }
+};
+
+/// ad::FramePosition<R, F> that takes its analytical value and Jacobian from the workspace's
+/// pose_cache when the last FramePose<R, F> Jacobian was taken at the same q (the position rows
+/// of the local-world-aligned frame Jacobian, the same quantity as FramePosition's
+/// compute_frame_position_derivative up to round-off), else computes them as FramePosition.
+/// Values and AutoDiff: FramePosition's.
+template <arbor::Robot R, int F>
+struct PosePosition : ad::FramePosition<R, F> {
+  using Base = ad::FramePosition<R, F>;
+  using Base::nin;
+  using Base::nout;
+  template <class T, class W>
+  static void analytical(W& ws, const VecN<T, nin>& q, VecN<T, nout>& y,
+                         Eigen::Matrix<T, nout, nin>& J) {
+    if constexpr (requires { ws.pose_cache; })
+      if constexpr (std::is_same_v<T, typename decltype(ws.pose_cache)::Scalar>)
+        if (ws.pose_cache.lookup(F, q, y, J))
+          return;
+    Base::analytical(ws, q, y, J);
   }
 };
 
 using Fd = ad::ForwardDynamics<Robot>;
 using Id = ad::InverseDynamics<Robot>;
 using Pose = FramePose<Robot, ee_frame>;
-using Position = ad::FramePosition<Robot, ee_frame>;
+using Position = PosePosition<Robot, ee_frame>;
 
 /// The workspace of every RBD call of both formulations at controller scalar T with provider
 /// Tag: values at T (merit, shift) and Jacobians at T (the controller linearises at
-/// Dual<T, nx + nu>; a call node runs the provider at T, AutoDiff at Dual<T, nin>).
+/// Dual<T, nx + nu>; a call node runs the provider at T, AutoDiff at Dual<T, nin>); and the
+/// pose's position Jacobian for the tunnel (PoseCache).
 template <class Tag, class T>
-using Workspace =
-    ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWorkspace<Fd, Tag, T>,
-                        ad::JacobianWorkspace<Id, Tag, T>, ad::JacobianWorkspace<Pose, Tag, T>,
-                        ad::JacobianWorkspace<Position, Tag, T>>;
+struct Workspace
+    : ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWorkspace<Fd, Tag, T>,
+                          ad::JacobianWorkspace<Id, Tag, T>, ad::JacobianWorkspace<Pose, Tag, T>,
+                          ad::JacobianWorkspace<Position, Tag, T>> {
+  PoseCache<T> pose_cache;
+};
 
 // ---- the OCP's nonlinear pieces as generic functions (ad::fn bodies) ----------------------------
 /// [sd - sd_ref(s), e_p (3), e_R (3), 1 - s, sd] from the pose (12) and [s, sd].
