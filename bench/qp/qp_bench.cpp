@@ -7,6 +7,8 @@
 //           then the warm-started solve (compare with setup + warm)
 //   factor: one full block-tridiagonal factorization (all 17 stages)
 // Counters: iterations, active-set changes, stage blocks factorized per solve, solver bytes.
+// Every case runs with the default backend and, under the "ric_" names, with the exact-dynamics
+// Riccati backend (ocp_riccati_backend.hpp).
 #include <benchmark/benchmark.h>
 
 #include <array>
@@ -24,10 +26,15 @@ using arbor::qp::QpStatus;
 using arbor::qp::detail::ConstraintState;
 
 template <typename Qp>
+using Default = typename arbor::qp::detail::DefaultOcpBackend<Qp>::type;
+template <typename Qp>
+using Riccati = typename arbor::qp::detail::RiccatiOcpBackend<Qp>::type;
+
+template <typename Qp, typename Backend>
 struct Fixture {
   Qp nominal;
   Qp perturbed;
-  OcpQpSolver<Qp> solver;
+  OcpQpSolver<Qp, Backend> solver;
   Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::nv, 1> x0;
   Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::nv, 1> lx0;
   Eigen::Matrix<typename decltype(nominal.terminal.q)::Scalar, Qp::na, 1> la0;
@@ -46,25 +53,25 @@ struct Fixture {
   }
 };
 
-template <typename Qp>
-Fixture<Qp>& fixture() {
-  static Fixture<Qp> f;  // ~0.3 MB: static storage
+template <typename Qp, typename Backend>
+Fixture<Qp, Backend>& fixture() {
+  static Fixture<Qp, Backend> f;  // ~0.3 MB: static storage
   return f;
 }
 
-template <typename Qp>
-void report(benchmark::State& state, const OcpQpSolver<Qp>& s, QpStatus st) {
+template <typename Qp, typename Backend>
+void report(benchmark::State& state, const OcpQpSolver<Qp, Backend>& s, QpStatus st) {
   state.counters["iterations"] = s.info().iterations;
   state.counters["changes"] = s.info().active_set_changes;
   state.counters["stages_factorized"] = s.info().stages_factorized;
   state.counters["solved"] = st == QpStatus::solved ? 1 : 0;
-  state.counters["solver_bytes"] = sizeof(OcpQpSolver<Qp>);
+  state.counters["solver_bytes"] = sizeof(OcpQpSolver<Qp, Backend>);
   state.counters["problem_bytes"] = sizeof(Qp);
 }
 
-template <typename Qp>
+template <typename Qp, typename Backend = Default<Qp>>
 void bm_cold(benchmark::State& state) {
-  auto& f = fixture<Qp>();
+  auto& f = fixture<Qp, Backend>();
   QpStatus st = QpStatus::not_setup;
   for (auto _ : state) {
     benchmark::DoNotOptimize(f.solver.setup(f.perturbed, f.settings));
@@ -75,9 +82,9 @@ void bm_cold(benchmark::State& state) {
   report(state, f.solver, st);
 }
 
-template <typename Qp>
+template <typename Qp, typename Backend = Default<Qp>>
 void bm_warm(benchmark::State& state) {
-  auto& f = fixture<Qp>();
+  auto& f = fixture<Qp, Backend>();
   QpStatus st = f.solver.setup(f.perturbed, f.settings);
   for (auto _ : state) {
     f.solver.x() = f.x0;
@@ -89,9 +96,9 @@ void bm_warm(benchmark::State& state) {
   report(state, f.solver, st);
 }
 
-template <typename Qp>
+template <typename Qp, typename Backend = Default<Qp>>
 void bm_update(benchmark::State& state) {
-  auto& f = fixture<Qp>();
+  auto& f = fixture<Qp, Backend>();
   QpStatus st = f.solver.setup(f.perturbed, f.settings);
   for (auto _ : state) {
     f.solver.x() = f.x0;
@@ -104,12 +111,12 @@ void bm_update(benchmark::State& state) {
   report(state, f.solver, st);
 }
 
-template <typename Qp>
+template <typename Qp, typename Backend = Default<Qp>>
 void bm_factor(benchmark::State& state) {
   using Scalar = typename decltype(Qp{}.terminal.q)::Scalar;
-  static arbor::qp::detail::OcpBackend<Scalar, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn> be;
+  static Backend be;
   static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
-  auto& f = fixture<Qp>();
+  auto& f = fixture<Qp, Backend>();
   be.p = &f.nominal;
   for (int i = 0; i < Qp::nv + Qp::na; ++i)
     ws[i] = i >= Qp::nv ? ConstraintState::equality : ConstraintState::inactive;  // dynamics
@@ -129,9 +136,9 @@ void bm_factor(benchmark::State& state) {
   state.counters["stages"] = done;
 }
 
-template <typename Qp>
+template <typename Qp, typename Backend = Default<Qp>>
 void bm_setup(benchmark::State& state) {
-  auto& f = fixture<Qp>();
+  auto& f = fixture<Qp, Backend>();
   for (auto _ : state)
     benchmark::DoNotOptimize(f.solver.setup(f.perturbed, f.settings));
 }
@@ -155,6 +162,30 @@ BENCHMARK(bm_warm<FdF>)->Name("fd_float/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<FdF>)->Name("fd_float/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<IdF>)->Name("id_float/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<IdF>)->Name("id_float/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<FdD, Riccati<FdD>>)->Name("ric_fd_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<FdD, Riccati<FdD>>)->Name("ric_fd_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_update<FdD, Riccati<FdD>>)
+    ->Name("ric_fd_double/update_assumed_warm")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<FdD, Riccati<FdD>>)
+    ->Name("ric_fd_double/factor_full")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_setup<FdD, Riccati<FdD>>)->Name("ric_fd_double/setup")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<IdD, Riccati<IdD>>)->Name("ric_id_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<IdD, Riccati<IdD>>)->Name("ric_id_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_update<IdD, Riccati<IdD>>)
+    ->Name("ric_id_double/update_assumed_warm")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<IdD, Riccati<IdD>>)
+    ->Name("ric_id_double/factor_full")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<FdF, Riccati<FdF>>)->Name("ric_fd_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<FdF, Riccati<FdF>>)->Name("ric_fd_float/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<FdF, Riccati<FdF>>)
+    ->Name("ric_fd_float/factor_full")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<IdF, Riccati<IdF>>)->Name("ric_id_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<IdF, Riccati<IdF>>)->Name("ric_id_float/warm")->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

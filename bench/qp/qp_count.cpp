@@ -1,9 +1,10 @@
 // Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
 // toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
 // the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
-// Every variant runs with the default backend; the double variants also with the reference
-// block-tridiagonal Cholesky ("chol_" labels), and one full factorization of each backend is
-// measured on its own ("factor" labels: dynamics rows and x_0 in the working set).
+// Every variant runs with the default backend and with the exact-dynamics Riccati backend
+// ("ric_" labels); the double variants also with the reference block-tridiagonal Cholesky
+// ("chol_" labels), and one full factorization of each backend is measured on its own ("factor"
+// labels: dynamics rows and x_0 in the working set).
 //   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
 #include <array>
 #include <cstdio>
@@ -43,6 +44,9 @@ template <typename Qp>
 using Cholesky =
     arbor::qp::detail::OcpCholeskyBackend<typename decltype(Qp{}.terminal.q)::Scalar, Qp::horizon,
                                           Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+
+template <typename Qp>
+using Riccati = typename arbor::qp::detail::RiccatiOcpBackend<Qp>::type;
 
 template <typename Qp, typename Backend = Default<Qp>>
 void run(const char* name) {
@@ -128,5 +132,11 @@ int main() {
   run<KinovaQp<double, 8>>("id_double");
   run<KinovaQp<float, 1>>("fd_float");
   run<KinovaQp<float, 8>>("id_float");
+  factor<KinovaQp<double, 1>, Riccati<KinovaQp<double, 1>>>("fd_double/ric_factor");
+  factor<KinovaQp<float, 1>, Riccati<KinovaQp<float, 1>>>("fd_float/ric_factor");
+  run<KinovaQp<double, 1>, Riccati<KinovaQp<double, 1>>>("fd_ric");
+  run<KinovaQp<double, 8>, Riccati<KinovaQp<double, 8>>>("id_ric");
+  run<KinovaQp<float, 1>, Riccati<KinovaQp<float, 1>>>("fd_ric_f");
+  run<KinovaQp<float, 8>, Riccati<KinovaQp<float, 8>>>("id_ric_f");
   return 0;
 }

@@ -22,6 +22,10 @@
 //     (H + delta I + A_W' E A_W) dx = -(H x + g + A' lam) - A_W' E (A_W x - t_W)
 //     dlam_W = E (A_W (x + dx) - t_W),   dlam_i = 0 off the working set,
 //   with E = diag(1 / (eps |a_i|^2)) (rows normalised; |a_i| = 1 for bounds).
+//   A backend that solves some rows exactly (ExactRowBackend in backend.hpp: the OCP's dynamics
+//   rows, by a Riccati recursion) leaves them out of E: they hold exactly, D (x + dx) = t_D,
+//   and their multiplier steps dlam_D come from its solve (compute_step(); the rows are
+//   equalities, so the working-set logic never adds or drops them).
 //   The matrix is positive definite for any convex H, whatever the working set: redundant or
 //   linearly dependent active constraints and directions of zero curvature (states without
 //   cost, LPs) never make it singular. Along a zero-curvature direction the step is long

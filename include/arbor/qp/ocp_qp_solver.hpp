@@ -3,7 +3,9 @@
 // Active-set logic: active_set.hpp (QRQP-style primal-dual, one change per iteration, ratio test
 // with primal blocking constraints and dual break points, warm start from x and lam). Linear
 // algebra: ocp_backend.hpp (stage-wise block elimination with vectorisable kernels, rank-one
-// updates for working-set changes; the default) or ocp_cholesky_backend.hpp (the first
+// updates for working-set changes; the default), ocp_riccati_backend.hpp (the dynamics solved
+// exactly by a Riccati recursion, costates from the solve; opt-in:
+// OcpQpSolver<Qp, detail::RiccatiOcpBackend<Qp>::type>) or ocp_cholesky_backend.hpp (the first
 // block-tridiagonal Cholesky, kept for comparison: OcpQpSolver<Qp, OcpCholeskyBackend<...>>).
 // Cost: O(N (NX+NU)^3) per full factorization (one per solve), O(N (NX+NU)^2) per working-set
 // change and per iteration otherwise.

@@ -19,8 +19,12 @@
 // ocp_backend.hpp: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
 // solve_exact(): backward, h_k = f_k + F_k' Lxx_{k+1} (y_{x,k+1} - Lxx_{k+1}' e_k), y_k =
 // L_k^-1 h_k; forward, from dx_0 = L_0^-T y_0: du_k = Luu^-T (y_u - Lxu' dx_k), the costate
-// dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~2 NW^2 + 3 NX NW + 2 NX^2
-// multiply-adds per stage.
+// dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
+// + 2 NX^2 multiply-adds per stage (1.8 k for the Kinova size; the penalised solve: 1.3 k).
+// Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
+// penalised one: 753 k), one solve_exact ~90 k (the penalised solve ~45 k: the triangular
+// products with the packed Lxx and the four [A B] products per stage are the next thing to make
+// cheaper).
 // Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
 // (downdate) of L_k leaves, after its u columns, the vector v^ with P_k +-= v^ v^', so M_{k-1}
 // changes by +-(F_{k-1}' v^)(F_{k-1}' v^)': one sweep from stage k down to stage 0,
@@ -225,11 +229,35 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return l + kernels::packed_col(n, j) - j;
   }
 
-  /// out = Lxx' v, Lxx the trailing NX x NX block of the packed lower l (order n).
+  /// out = Lxx' v, Lxx the trailing NX x NX block of the packed lower l (order n): four dot
+  /// products at a time (columns i..i+3), sharing the loads of v.
   template <int n>
   static void lt_mul_tail(const Scalar* l, const Scalar* v, Scalar* out) {
     constexpr int o = n - NX;
-    for (int i = 0; i < NX; ++i) {
+    int i = 0;
+    for (; i + 4 <= NX; i += 4) {
+      const Scalar* c0 = col<n>(l, o + i) + o;
+      const Scalar* c1 = col<n>(l, o + i + 1) + o;
+      const Scalar* c2 = col<n>(l, o + i + 2) + o;
+      const Scalar* c3 = col<n>(l, o + i + 3) + o;
+      const Scalar v0 = v[i], v1 = v[i + 1], v2 = v[i + 2], v3 = v[i + 3];
+      Scalar s0 = c0[i] * v0 + c0[i + 1] * v1 + c0[i + 2] * v2 + c0[i + 3] * v3;
+      Scalar s1 = c1[i + 1] * v1 + c1[i + 2] * v2 + c1[i + 3] * v3;
+      Scalar s2 = c2[i + 2] * v2 + c2[i + 3] * v3;
+      Scalar s3 = c3[i + 3] * v3;
+      for (int r = i + 4; r < NX; ++r) {
+        const Scalar y = v[r];
+        s0 += c0[r] * y;
+        s1 += c1[r] * y;
+        s2 += c2[r] * y;
+        s3 += c3[r] * y;
+      }
+      out[i] = s0;
+      out[i + 1] = s1;
+      out[i + 2] = s2;
+      out[i + 3] = s3;
+    }
+    for (; i < NX; ++i) {
       const Scalar* c = col<n>(l, o + i) + o;
       Scalar t = 0;
       for (int r = i; r < NX; ++r)
@@ -262,15 +290,39 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     l_mul_tail<n>(l, t, nu);
   }
 
-  /// Back substitution L' b = c for the first m unknowns, the last n - m (already final) given.
+  /// Back substitution L' y = b for the first m unknowns of b (in place), the last n - m
+  /// (already final) given: blocks of four columns whose dot products share their loads.
   template <int n, int m>
   static void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
-    for (int j = m - 1; j >= 0; --j) {
+    constexpr int tail = m % 4;
+    for (int j = m - 1; j >= m - tail; --j) {
       const Scalar* cj = col<n>(l, j);
       Scalar s = b[j];
       for (int r = j + 1; r < n; ++r)
         s -= cj[r] * b[r];
       b[j] = s / cj[j];
+    }
+    for (int j = m - tail - 4; j >= 0; j -= 4) {
+      const Scalar* c0 = col<n>(l, j);
+      const Scalar* c1 = col<n>(l, j + 1);
+      const Scalar* c2 = col<n>(l, j + 2);
+      const Scalar* c3 = col<n>(l, j + 3);
+      Scalar s0 = b[j], s1 = b[j + 1], s2 = b[j + 2], s3 = b[j + 3];
+      for (int r = j + 4; r < n; ++r) {
+        const Scalar y = b[r];
+        s0 -= c0[r] * y;
+        s1 -= c1[r] * y;
+        s2 -= c2[r] * y;
+        s3 -= c3[r] * y;
+      }
+      const Scalar y3 = s3 / c3[j + 3];
+      const Scalar y2 = (s2 - c2[j + 3] * y3) / c2[j + 2];
+      const Scalar y1 = (s1 - c1[j + 2] * y2 - c1[j + 3] * y3) / c1[j + 1];
+      const Scalar y0 = (s0 - c0[j + 1] * y1 - c0[j + 2] * y2 - c0[j + 3] * y3) / c0[j];
+      b[j] = y0;
+      b[j + 1] = y1;
+      b[j + 2] = y2;
+      b[j + 3] = y3;
     }
   }
 
