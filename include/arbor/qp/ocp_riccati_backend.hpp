@@ -22,7 +22,7 @@
 // dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
 // + 2 NX^2 multiply-adds per stage (1.8 k for the Kinova size; the penalised solve: 1.3 k).
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
-// penalised one: 753 k), one solve_exact ~90 k (the penalised solve ~45 k: the triangular
+// penalised one: 753 k), one solve_exact ~75 k (the penalised solve ~45 k: the triangular
 // products with the packed Lxx and the four [A B] products per stage are the next thing to make
 // cheaper).
 // Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
@@ -266,18 +266,36 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     }
   }
 
-  /// out = Lxx v, Lxx the trailing NX x NX block of the packed lower l (order n).
+  /// out = Lxx v, Lxx the trailing NX x NX block of the packed lower l (order n): four
+  /// columns at a time, the sums in a local array (no aliasing with l: vectorised over rows).
   template <int n>
   static void l_mul_tail(const Scalar* l, const Scalar* v, Scalar* out) {
     constexpr int o = n - NX;
+    Scalar acc[NX];
     for (int r = 0; r < NX; ++r)
-      out[r] = 0;
-    for (int i = 0; i < NX; ++i) {
+      acc[r] = 0;
+    int i = 0;
+    for (; i + 4 <= NX; i += 4) {
+      const Scalar* c0 = col<n>(l, o + i) + o;
+      const Scalar* c1 = col<n>(l, o + i + 1) + o;
+      const Scalar* c2 = col<n>(l, o + i + 2) + o;
+      const Scalar* c3 = col<n>(l, o + i + 3) + o;
+      const Scalar v0 = v[i], v1 = v[i + 1], v2 = v[i + 2], v3 = v[i + 3];
+      acc[i] += c0[i] * v0;
+      acc[i + 1] += c0[i + 1] * v0 + c1[i + 1] * v1;
+      acc[i + 2] += c0[i + 2] * v0 + c1[i + 2] * v1 + c2[i + 2] * v2;
+      acc[i + 3] += c0[i + 3] * v0 + c1[i + 3] * v1 + c2[i + 3] * v2 + c3[i + 3] * v3;
+      for (int r = i + 4; r < NX; ++r)
+        acc[r] += c0[r] * v0 + c1[r] * v1 + c2[r] * v2 + c3[r] * v3;
+    }
+    for (; i < NX; ++i) {
       const Scalar* c = col<n>(l, o + i) + o;
       const Scalar vi = v[i];
       for (int r = i; r < NX; ++r)
-        out[r] += c[r] * vi;
+        acc[r] += c[r] * vi;
     }
+    for (int r = 0; r < NX; ++r)
+      out[r] = acc[r];
   }
 
   /// nu = Lxx (y_x - Lxx' dx), Lxx the trailing block of the packed lower l (order n).
