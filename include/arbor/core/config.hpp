@@ -7,10 +7,14 @@
 #define ARBOR_VERSION_PATCH 0
 
 /// Force-inline hint used on small hot functions of the unrolled recursions.
+/// ARBOR_FLATTEN (a function, or a lambda after its parameter list): every call inside it is
+/// inlined, whatever the compiler's inlining budget of the translation unit (static_for_flat).
 #if defined(__GNUC__) || defined(__clang__)
 #define ARBOR_INLINE inline __attribute__((always_inline))
+#define ARBOR_FLATTEN __attribute__((flatten))
 #else
 #define ARBOR_INLINE inline
+#define ARBOR_FLATTEN
 #endif
 
 // ---------------------------------------------------------------------------------------------

@@ -16,9 +16,10 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
                            const Eigen::MatrixBase<V>& v, const Eigen::MatrixBase<T>& tau,
                            const Vec3<Scalar>& g,
                            const typename Data<R, Scalar>::ForceArray* fext) {
+  constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
   detail::joint_states(d, q);
   // Pass 1: velocities, velocity-product accelerations c_i (in data.a), bias forces.
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     const JointState<Scalar>& js = d.joint[i];
@@ -40,7 +41,7 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
       d.pA[i] -= (*fext)[i];
   });
   // Pass 2: articulated inertias and bias forces, leaves to root.
-  static_for_reverse<R::nb>([&](auto I) {
+  static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
@@ -55,7 +56,7 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     }
   });
   // Pass 3: accelerations, root to leaves (the base accelerates by -g).
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     Motion<Scalar> ai;

@@ -19,6 +19,7 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
                                                  const Eigen::MatrixBase<Q>& q) {
   static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
   constexpr int n = R::nv;
+  constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
   detail::joint_states(d, q);
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
@@ -28,7 +29,7 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
     d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
   // Backward pass: columns [i, last] (the subtree of i) of the bias-force blocks.
-  static_for_reverse<R::nb>([&](auto I) {
+  static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = model::subtree_last<R>(i) - i + 1;
@@ -61,7 +62,7 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
     }
   });
   // Forward pass: rows i, columns [i, n) of M^-1 and of the acceleration blocks.
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = n - i;
