@@ -79,19 +79,21 @@ void solve_lower_packed(const Scalar* l, Scalar* b) {
   }
 }
 
-/// Solves L' y = b in place, L lower of order n packed: back substitution by blocks of four
-/// columns, whose dot products with the solved part share its loads.
-template <int n, typename Scalar>
-void solve_lower_transposed_packed(const Scalar* l, Scalar* b) {
-  constexpr int tail = n % 4;
-  for (int j = n - 1; j >= n - tail; --j) {
+/// Back substitution L' y = b for the first m unknowns of b (in place), L lower of order n
+/// packed, the last n - m unknowns (already final) given: blocks of four columns whose dot
+/// products with the solved part share its loads. m = n: the whole solve L' y = b.
+template <int n, int m, typename Scalar>
+void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
+  static_assert(0 <= m && m <= n);
+  constexpr int tail = m % 4;
+  for (int j = m - 1; j >= m - tail; --j) {
     const Scalar* cj = l + kernels::packed_col(n, j) - j;
     Scalar s = b[j];
     for (int r = j + 1; r < n; ++r)
       s -= cj[r] * b[r];
     b[j] = s / cj[j];
   }
-  for (int j = n - tail - 4; j >= 0; j -= 4) {
+  for (int j = m - tail - 4; j >= 0; j -= 4) {
     const Scalar* c0 = l + kernels::packed_col(n, j) - j;
     const Scalar* c1 = l + kernels::packed_col(n, j + 1) - (j + 1);
     const Scalar* c2 = l + kernels::packed_col(n, j + 2) - (j + 2);
@@ -113,6 +115,12 @@ void solve_lower_transposed_packed(const Scalar* l, Scalar* b) {
     b[j + 2] = y2;
     b[j + 3] = y3;
   }
+}
+
+/// Solves L' y = b in place, L lower of order n packed.
+template <int n, typename Scalar>
+void solve_lower_transposed_packed(const Scalar* l, Scalar* b) {
+  solve_lower_transposed_head<n, n>(l, b);
 }
 
 /// Packs the lower triangle of a (order n, column-major, leading dimension n) into l.

@@ -308,42 +308,6 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     l_mul_tail<n>(l, t, nu);
   }
 
-  /// Back substitution L' y = b for the first m unknowns of b (in place), the last n - m
-  /// (already final) given: blocks of four columns whose dot products share their loads.
-  template <int n, int m>
-  static void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
-    constexpr int tail = m % 4;
-    for (int j = m - 1; j >= m - tail; --j) {
-      const Scalar* cj = col<n>(l, j);
-      Scalar s = b[j];
-      for (int r = j + 1; r < n; ++r)
-        s -= cj[r] * b[r];
-      b[j] = s / cj[j];
-    }
-    for (int j = m - tail - 4; j >= 0; j -= 4) {
-      const Scalar* c0 = col<n>(l, j);
-      const Scalar* c1 = col<n>(l, j + 1);
-      const Scalar* c2 = col<n>(l, j + 2);
-      const Scalar* c3 = col<n>(l, j + 3);
-      Scalar s0 = b[j], s1 = b[j + 1], s2 = b[j + 2], s3 = b[j + 3];
-      for (int r = j + 4; r < n; ++r) {
-        const Scalar y = b[r];
-        s0 -= c0[r] * y;
-        s1 -= c1[r] * y;
-        s2 -= c2[r] * y;
-        s3 -= c3[r] * y;
-      }
-      const Scalar y3 = s3 / c3[j + 3];
-      const Scalar y2 = (s2 - c2[j + 3] * y3) / c2[j + 2];
-      const Scalar y1 = (s1 - c1[j + 2] * y2 - c1[j + 3] * y3) / c1[j + 1];
-      const Scalar y0 = (s0 - c0[j + 1] * y1 - c0[j + 2] * y2 - c0[j + 3] * y3) / c0[j];
-      b[j] = y0;
-      b[j + 1] = y1;
-      b[j + 2] = y2;
-      b[j + 3] = y3;
-    }
-  }
-
   /// D(c:n, c) += wgt a_c a(c:n) for every column c.
   template <typename Mat, typename Vec>
   static void add_rank_one_lower(Mat& d, const Vec& a, Scalar wgt) {
