@@ -41,6 +41,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "arbor/qp/backend.hpp"
 #include "arbor/qp/kernels.hpp"
@@ -121,6 +122,39 @@ void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
 template <int n, typename Scalar>
 void solve_lower_transposed_packed(const Scalar* l, Scalar* b) {
   solve_lower_transposed_head<n, n>(l, b);
+}
+
+/// One column step of a rank-one update (sigma = +1) or downdate (-1) of L L' by v v': column j
+/// of the packed lower block ld (order n) and of the m rows below it, lo (may be null when m is
+/// 0), with the parts v (n) and vo (m) of the vector. False when a downdate is unsafe:
+/// r^2 <= tol L_jj^2 (tol = sqrt(eps): more than half the digits of the pivot would be lost).
+template <int n, int m, typename Scalar>
+bool rotate_packed_column(Scalar* ld, std::type_identity_t<Scalar>* lo, Scalar* v,
+                          std::type_identity_t<Scalar>* vo, int j, Scalar sigma, Scalar tol) {
+  const Scalar vj = v[j];
+  if (vj == Scalar(0))
+    return true;
+  Scalar* cj = ld + kernels::packed_col(n, j) - j;  // cj[i] = L(i, j), i >= j
+  const Scalar ljj = cj[j];
+  const Scalar l2 = ljj * ljj;
+  const Scalar r2 = l2 + sigma * vj * vj;
+  if (!(r2 > tol * l2) || !std::isfinite(r2))
+    return false;
+  const Scalar r = std::sqrt(r2);
+  const Scalar c = r / ljj, sn = vj / ljj, ic = ljj / r;
+  cj[j] = r;
+  v[j] = 0;
+  for (int i = j + 1; i < n; ++i) {
+    const Scalar li = (cj[i] + sigma * sn * v[i]) * ic;
+    cj[i] = li;
+    v[i] = c * v[i] - sn * li;
+  }
+  for (int i = 0; i < m; ++i) {
+    const Scalar li = (lo[i] + sigma * sn * vo[i]) * ic;
+    lo[i] = li;
+    vo[i] = c * vo[i] - sn * li;
+  }
+  return true;
 }
 
 /// Packs the lower triangle of a (order n, column-major, leading dimension n) into l.
@@ -423,42 +457,6 @@ struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return true;
   }
 
-  /// One column step of a rank-one update (sigma = +1) or downdate (-1) of L L' by v v':
-  /// column j of the packed diagonal block ld (order n) and of the block below it, lo (NX rows,
-  /// may be null), with the parts v (n) and vo (NX) of the vector. False when a downdate is
-  /// unsafe: r^2 <= tol L_jj^2 (tol = sqrt(eps): more than half the digits of the pivot would be
-  /// lost).
-  template <int n>
-  static bool rotate_column(Scalar* ld, Scalar* lo, Scalar* v, Scalar* vo, int j, Scalar sigma,
-                            Scalar tol) {
-    const Scalar vj = v[j];
-    if (vj == Scalar(0))
-      return true;
-    Scalar* cj = ld + kernels::packed_col(n, j) - j;  // cj[i] = L(i, j), i >= j
-    const Scalar ljj = cj[j];
-    const Scalar l2 = ljj * ljj;
-    const Scalar r2 = l2 + sigma * vj * vj;
-    if (!(r2 > tol * l2) || !std::isfinite(r2))
-      return false;
-    const Scalar r = std::sqrt(r2);
-    const Scalar c = r / ljj, sn = vj / ljj, ic = ljj / r;
-    cj[j] = r;
-    v[j] = 0;
-    for (int i = j + 1; i < n; ++i) {
-      const Scalar li = (cj[i] + sigma * sn * v[i]) * ic;
-      cj[i] = li;
-      v[i] = c * v[i] - sn * li;
-    }
-    if (lo != nullptr) {
-      for (int i = 0; i < NX; ++i) {
-        const Scalar li = (lo[i] + sigma * sn * vo[i]) * ic;
-        lo[i] = li;
-        vo[i] = c * vo[i] - sn * li;
-      }
-    }
-    return true;
-  }
-
   /// Adds (active) or removes the term of constraint i (stage k) by a rank-one sweep over stages
   /// k..dirty_from-1 (and the terminal block when it is valid); false when a downdate is unsafe
   /// (the caller refactorizes from stage k).
@@ -493,7 +491,7 @@ struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       Scalar* ld = l_diag[s].data();
       Scalar* lo = l_off[s].data();
       for (int j = 0; j < NW; ++j) {
-        if (!rotate_column<NW>(ld, lo + j * NX, v.data(), vx.data(), j, sigma, tol))
+        if (!rotate_packed_column<NW, NX>(ld, lo + j * NX, v.data(), vx.data(), j, sigma, tol))
           return false;
       }
       v.template head<NX>() = vx;
@@ -505,7 +503,7 @@ struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       vx = v.template head<NX>();
     Scalar* ld = l_term.data();
     for (int j = 0; j < NX; ++j) {
-      if (!rotate_column<NX>(ld, nullptr, vx.data(), nullptr, j, sigma, tol))
+      if (!rotate_packed_column<NX, 0>(ld, nullptr, vx.data(), nullptr, j, sigma, tol))
         return false;
     }
     return true;

@@ -413,31 +413,6 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return true;
   }
 
-  /// One column step of a rank-one update (sigma = +1) or downdate (-1) of the packed lower l
-  /// (order n) by v v' at column j. False when a downdate is unsafe (r^2 <= sqrt(eps) L_jj^2).
-  template <int n>
-  static bool rotate(Scalar* l, Scalar* v, int j, Scalar sigma, Scalar tol) {
-    const Scalar vj = v[j];
-    if (vj == Scalar(0))
-      return true;
-    Scalar* cj = col<n>(l, j);
-    const Scalar ljj = cj[j];
-    const Scalar l2 = ljj * ljj;
-    const Scalar r2 = l2 + sigma * vj * vj;
-    if (!(r2 > tol * l2) || !std::isfinite(r2))
-      return false;
-    const Scalar r = std::sqrt(r2);
-    const Scalar c = r / ljj, sn = vj / ljj, ic = ljj / r;
-    cj[j] = r;
-    v[j] = 0;
-    for (int i = j + 1; i < n; ++i) {
-      const Scalar li = (cj[i] + sigma * sn * v[i]) * ic;
-      cj[i] = li;
-      v[i] = c * v[i] - sn * li;
-    }
-    return true;
-  }
-
   /// Adds (active) or removes the term of constraint i (stage k) by a rank-one sweep over stages
   /// k..dirty_to+1; false when a downdate is unsafe (the caller refactorizes stages k..0).
   bool rank_one(int i, int k, bool active, Scalar w, const VecA& wa) {
@@ -458,7 +433,7 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       }
       VecX t = vx;
       for (int j = 0; j < NX; ++j) {
-        if (!rotate<NX>(l_term.data(), t.data(), j, sigma, tol))
+        if (!rotate_packed_column<NX, 0>(l_term.data(), nullptr, t.data(), nullptr, j, sigma, tol))
           return false;
       }
       s = N - 1;
@@ -480,12 +455,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       }
       Scalar* l = l_stage[s].data();
       for (int j = 0; j < NU; ++j) {
-        if (!rotate<NW>(l, v.data(), j, sigma, tol))
+        if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
           return false;
       }
       vx = v.template tail<NX>();
       for (int j = NU; j < NW; ++j) {
-        if (!rotate<NW>(l, v.data(), j, sigma, tol))
+        if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
           return false;
       }
     }
