@@ -1,8 +1,9 @@
 // Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
 // toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
 // the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
-// Every variant runs with the default backend and with the exact-dynamics Riccati backend
-// ("ric_" labels); the double variants also with the reference block-tridiagonal Cholesky
+// Every variant runs with the default backend (the exact-dynamics Riccati one) and with the
+// penalised block elimination that was the default before it ("pen" labels, ocp_backend.hpp);
+// the double variants also with the reference block-tridiagonal Cholesky
 // ("chol_" labels), and one full factorization of each backend is measured on its own ("factor"
 // labels: dynamics rows and x_0 in the working set).
 //   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
@@ -46,7 +47,7 @@ using Cholesky =
                                           Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
 
 template <typename Qp>
-using Riccati = typename arbor::qp::detail::RiccatiOcpBackend<Qp>::type;
+using Penalised = typename arbor::qp::detail::PenalisedOcpBackend<Qp>::type;
 
 template <typename Qp, typename Backend = Default<Qp>>
 void run(const char* name) {
@@ -132,11 +133,11 @@ int main() {
   run<KinovaQp<double, 8>>("id_double");
   run<KinovaQp<float, 1>>("fd_float");
   run<KinovaQp<float, 8>>("id_float");
-  factor<KinovaQp<double, 1>, Riccati<KinovaQp<double, 1>>>("fd_double/ric_factor");
-  factor<KinovaQp<float, 1>, Riccati<KinovaQp<float, 1>>>("fd_float/ric_factor");
-  run<KinovaQp<double, 1>, Riccati<KinovaQp<double, 1>>>("fd_ric");
-  run<KinovaQp<double, 8>, Riccati<KinovaQp<double, 8>>>("id_ric");
-  run<KinovaQp<float, 1>, Riccati<KinovaQp<float, 1>>>("fd_ric_f");
-  run<KinovaQp<float, 8>, Riccati<KinovaQp<float, 8>>>("id_ric_f");
+  factor<KinovaQp<double, 1>, Penalised<KinovaQp<double, 1>>>("fd_double/pen_factor");
+  factor<KinovaQp<float, 1>, Penalised<KinovaQp<float, 1>>>("fd_float/pen_factor");
+  run<KinovaQp<double, 1>, Penalised<KinovaQp<double, 1>>>("fd_pen");
+  run<KinovaQp<double, 8>, Penalised<KinovaQp<double, 8>>>("id_pen");
+  run<KinovaQp<float, 1>, Penalised<KinovaQp<float, 1>>>("fd_pen_f");
+  run<KinovaQp<float, 8>, Penalised<KinovaQp<float, 8>>>("id_pen_f");
   return 0;
 }

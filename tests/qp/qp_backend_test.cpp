@@ -1,12 +1,13 @@
 // The OCP solver's linear algebra against a dense reference: for random stage data and random
 // working sets, M = H + delta I + A_W' E A_W is assembled densely here (dynamic Eigen, from the
-// definition in active_set.hpp) and M^-1 b computed with Eigen's LLT; both backends (the default
-// block elimination with rank-one updates, and the reference block-tridiagonal Cholesky) must
-// agree with it after a full factorization and after sequences of working-set changes applied
-// through mark_changed() (rank-one updates, downdates and their refactorization fallback).
-// The exact-dynamics Riccati backend solves the KKT system [M_P D'; D 0] (D: the dynamics rows,
-// M_P without their weights; backend.hpp, ExactRowBackend) instead: it is checked against the
-// dense KKT matrix solved by Eigen's LU, primal step and dynamics multipliers.
+// definition in active_set.hpp) and M^-1 b computed with Eigen's LLT; both penalised backends
+// (the block elimination with rank-one updates, ocp_backend.hpp, the default before the Riccati
+// backend, and the reference block-tridiagonal Cholesky) must agree with it after a full
+// factorization and after sequences of working-set changes applied through mark_changed()
+// (rank-one updates, downdates and their refactorization fallback).
+// The exact-dynamics Riccati backend (the default) solves the KKT system [M_P D'; D 0] (D: the
+// dynamics rows, M_P without their weights; backend.hpp, ExactRowBackend) instead: it is checked
+// against the dense KKT matrix solved by Eigen's LU, primal step and dynamics multipliers.
 // Every backend call runs inside an allocation guard.
 #include <gtest/gtest.h>
 
@@ -171,16 +172,17 @@ using Wide = OcpQp<double, 6, 4, 3, 0, 2>;
 // sizes that fill the 4 x 4 blocks of the kernels (kernels.hpp) and leave tails of 1 and 3
 using Blocked = OcpQp<double, 4, 9, 6, 2, 1>;
 template <typename Qp>
-using Default = arbor::qp::detail::OcpBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
+using Penalised =
+    arbor::qp::detail::OcpBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
 template <typename Qp>
 using Reference =
     arbor::qp::detail::OcpCholeskyBackend<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
 
-TEST(QpBackend, DefaultMatchesDenseThroughUpdates) {
-  check_backend<Small, Default<Small>>(100, 20);
-  check_backend<NoInput, Default<NoInput>>(200, 20);
-  check_backend<Wide, Default<Wide>>(300, 20);
-  check_backend<Blocked, Default<Blocked>>(400, 20);
+TEST(QpBackend, PenalisedMatchesDenseThroughUpdates) {
+  check_backend<Small, Penalised<Small>>(100, 20);
+  check_backend<NoInput, Penalised<NoInput>>(200, 20);
+  check_backend<Wide, Penalised<Wide>>(300, 20);
+  check_backend<Blocked, Penalised<Blocked>>(400, 20);
 }
 
 template <typename Qp>
@@ -199,11 +201,11 @@ TEST(QpBackend, ReferenceMatchesDenseThroughUpdates) {
   check_backend<Wide, Reference<Wide>>(300, 20);
 }
 
-/// The default backend really updates: a change in stage 0 must not refactorize the horizon.
+/// The penalised backend really updates: a change in stage 0 must not refactorize the horizon.
 TEST(QpBackend, WorkingSetChangeIsAnUpdate) {
   using Qp = Small;
   static Qp qp;
-  static Default<Qp> be;
+  static Penalised<Qp> be;
   static std::array<ConstraintState, Qp::nv + Qp::na> ws{};
   std::mt19937 rng(7);
   t::random_ocp(qp, rng, t::RandomOcpOptions{});

@@ -1,6 +1,7 @@
 // float instantiation: the same kinds of problems as in double, solved in single precision with
-// the float defaults; checked in double against the KKT conditions and the optimal value of the
-// double-precision dense solver (or the enumeration) on the very same (float) data.
+// the float defaults by both OCP backends (the default Riccati one and the penalised one);
+// checked in double against the KKT conditions and the optimal value of the double-precision
+// dense solver (or the enumeration) on the very same (float) data.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,14 +26,47 @@ using arbor::qp::OcpQp;
 using arbor::qp::QpStatus;
 using arbor::qp::to_string;
 using arbor::qp::test::OcpQpSolver;
+using arbor::qp::test::PenalisedOcpQpSolver;
 namespace t = arbor::qp::test;
 
+/// Checks one float solve in double: status, KKT conditions, objective against the dense
+/// solution and the enumeration (when given), the point for strictly convex problems.
+template <typename Solver, typename Dense>
+void expect_float_matches(const char* backend, const Solver& solver, QpStatus su, QpStatus st,
+                          const t::RefQp& ref, const Dense& dense, bool strict,
+                          const t::EnumResult* e) {
+  SCOPED_TRACE(backend);
+  ASSERT_EQ(su, QpStatus::accepted);
+  ASSERT_EQ(st, QpStatus::solved) << to_string(st);
+  const Eigen::VectorXd x = solver.x().template cast<double>();
+  const Eigen::VectorXd lx = solver.lam_x().template cast<double>();
+  const Eigen::VectorXd la = solver.lam_a().template cast<double>();
+  const t::Kkt k = t::kkt_residuals(ref, x, lx, la);
+  EXPECT_LE(k.primal, 1e-3 * k.pscale);
+  EXPECT_LE(k.dual, 1e-3 * k.dscale);
+  EXPECT_LE(k.complementarity, 1e-3 * k.pscale);
+  const t::Kkt kd = t::kkt_residuals(ref, dense.x(), dense.lam_x(), dense.lam_a());
+  // first-order bound of the objective error of a point with these residuals
+  const double ftol = t::objective_tolerance(k, x, lx, la, 1e-4) +
+                      t::objective_tolerance(kd, dense.x(), dense.lam_x(), dense.lam_a(), 1e-9);
+  EXPECT_NEAR(k.objective, kd.objective, ftol);
+  if (strict) {
+    EXPECT_LE((x - Eigen::VectorXd(dense.x())).cwiseAbs().maxCoeff(), 1e-2 * k.pscale);
+  }
+  if (e != nullptr) {
+    EXPECT_NEAR(k.objective, e->objective, ftol);
+  }
+}
+
+/// count random problems in float, each solved by the default (Riccati) and the penalised OCP
+/// backend, checked against the double dense solver (and the enumeration) on the same data.
 template <int N, int NX, int NU, int NG, int NGN>
 void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
   using QpF = OcpQp<float, N, NX, NU, NG, NGN>;
   using QpD = OcpQp<double, N, NX, NU, NG, NGN>;
   static QpF qp;
   static OcpQpSolver<QpF> solver;
+  static PenalisedOcpQpSolver<QpF> penalised;
   static DenseQpProblem<double, QpD::nv, QpD::na> dp;
   static DenseQpSolver<double, QpD::nv, QpD::na> dense;
   t::RandomOcpOptions opt;
@@ -44,12 +78,15 @@ void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
     t::random_ocp(qp, rng, opt);
     const t::RefQp ref = t::to_ref(qp);  // the float data, exactly, in double
     t::to_dense(ref, dp);
-    QpStatus st, sd;
+    QpStatus st, sd, su, spu, sp;
     {
       arbor::test::NoAllocScope guard;
-      ASSERT_EQ(solver.setup(qp), QpStatus::accepted);
+      su = solver.setup(qp);
       solver.cold_start();
       st = solver.solve();
+      spu = penalised.setup(qp);
+      penalised.cold_start();
+      sp = penalised.solve();
       // the float-rounded Hessian of a rank-deficient PSD matrix may be indefinite by ~1e-7
       arbor::qp::QpSettings<double> ds;
       ds.psd_tolerance = 1e-6;
@@ -58,28 +95,15 @@ void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
       sd = dense.solve();
     }
     SCOPED_TRACE(::testing::Message() << "seed " << seed0 + c);
-    ASSERT_EQ(st, QpStatus::solved) << to_string(st);
     ASSERT_EQ(sd, QpStatus::solved) << to_string(sd);
-    const Eigen::VectorXd x = solver.x().template cast<double>();
-    const Eigen::VectorXd lx = solver.lam_x().template cast<double>();
-    const Eigen::VectorXd la = solver.lam_a().template cast<double>();
-    const t::Kkt k = t::kkt_residuals(ref, x, lx, la);
-    EXPECT_LE(k.primal, 1e-3 * k.pscale);
-    EXPECT_LE(k.dual, 1e-3 * k.dscale);
-    EXPECT_LE(k.complementarity, 1e-3 * k.pscale);
-    const t::Kkt kd = t::kkt_residuals(ref, dense.x(), dense.lam_x(), dense.lam_a());
-    // first-order bound of the objective error of a point with these residuals
-    const double ftol = t::objective_tolerance(k, x, lx, la, 1e-4) +
-                        t::objective_tolerance(kd, dense.x(), dense.lam_x(), dense.lam_a(), 1e-9);
-    EXPECT_NEAR(k.objective, kd.objective, ftol);
-    if (strict) {
-      EXPECT_LE((x - Eigen::VectorXd(dense.x())).cwiseAbs().maxCoeff(), 1e-2 * k.pscale);
-    }
+    t::EnumResult e;
     if (enumerate) {
-      const t::EnumResult e = t::enumerate_active_sets(ref);
+      e = t::enumerate_active_sets(ref);
       ASSERT_TRUE(e.found);
-      EXPECT_NEAR(k.objective, e.objective, ftol);
     }
+    const t::EnumResult* pe = enumerate ? &e : nullptr;
+    expect_float_matches("default (Riccati) backend", solver, su, st, ref, dense, strict, pe);
+    expect_float_matches("penalised backend", penalised, spu, sp, ref, dense, strict, pe);
   }
 }
 

@@ -1,6 +1,8 @@
-// arbor::qp::detail: the linear algebra of the OCP solver: a block elimination of the stage-wise
-// KKT matrix with vectorisable fixed-size kernels, and rank-one factor updates for working-set
-// changes.
+// arbor::qp::detail: the penalised linear algebra of the OCP solver (the default before the
+// exact-dynamics Riccati backend, ocp_riccati_backend.hpp; opt-in through
+// PenalisedOcpBackend in ocp_qp_solver.hpp): a block elimination of the stage-wise KKT matrix
+// with vectorisable fixed-size kernels, and rank-one factor updates for working-set changes. The
+// packed kernels and OcpProducts below are shared with the Riccati backend.
 //
 // Each iteration of the active-set method (active_set.hpp) solves with
 //   M = H + delta I + A_W' E A_W     (E: regularisation weights, see active_set.hpp)

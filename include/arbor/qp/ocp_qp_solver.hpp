@@ -2,16 +2,18 @@
 //
 // Active-set logic: active_set.hpp (QRQP-style primal-dual, one change per iteration, ratio test
 // with primal blocking constraints and dual break points, warm start from x and lam). Linear
-// algebra: ocp_backend.hpp (stage-wise block elimination with vectorisable kernels, rank-one
-// updates for working-set changes; the default), ocp_riccati_backend.hpp (the dynamics solved
-// exactly by a Riccati recursion, costates from the solve; opt-in:
-// OcpQpSolver<Qp, detail::RiccatiOcpBackend<Qp>::type>) or ocp_cholesky_backend.hpp (the first
-// block-tridiagonal Cholesky, kept for comparison: OcpQpSolver<Qp, OcpCholeskyBackend<...>>).
+// algebra: ocp_riccati_backend.hpp (the default: the dynamics rows solved exactly by a backward
+// square-root Riccati recursion, costates from the solve, rank-one sweeps for working-set
+// changes), ocp_backend.hpp (the former default: every row a proximal penalty, stage-wise block
+// elimination; opt-in: OcpQpSolver<Qp, detail::PenalisedOcpBackend<Qp>::type>) or
+// ocp_cholesky_backend.hpp (the first block-tridiagonal Cholesky, kept for comparison:
+// OcpQpSolver<Qp, detail::OcpCholeskyBackend<...>>). bench/qp/RESULTS.md compares them.
 // Cost: O(N (NX+NU)^3) per full factorization (one per solve), O(N (NX+NU)^2) per working-set
 // change and per iteration otherwise.
-// Memory (scalars): N (NW^2 + NW NX) + NX^2 for the factor, about 11 NV + 8 NA for the
-// iterate and workspace, with NW = NX + NU, NV = N NW + NX, NA = N (NX+NG) + NGN; no dense KKT
-// matrix. Copy/reference rule (problem.hpp): the vectors (q, r, b, bounds) are copied by
+// Memory (scalars, default backend): N (NW (NW+1)/2) + NX (NX+1)/2 for the factor, about
+// 11 NV + 8 NA for the iterate and workspace, with NW = NX + NU, NV = N NW + NX,
+// NA = N (NX+NG) + NGN; no dense KKT matrix (Kinova size, N = 16, NX = 16, NU = 8: ~101 KB in
+// double). Copy/reference rule (problem.hpp): the vectors (q, r, b, bounds) are copied by
 // setup()/update(), the matrices (Q, S, R, A, B, C, D) are read through a pointer by every
 // solve(); the problem must outlive the solver's use of it.
 //
@@ -43,13 +45,6 @@
 namespace arbor::qp {
 
 namespace detail {
-/// The default linear algebra of OcpQpSolver<Qp>.
-template <typename Qp>
-struct DefaultOcpBackend;
-template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
-struct DefaultOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
-  using type = OcpBackend<Scalar, N, NX, NU, NG, NGN>;
-};
 /// The exact-dynamics Riccati backend (ocp_riccati_backend.hpp) of OcpQpSolver<Qp, ...>.
 template <typename Qp>
 struct RiccatiOcpBackend;
@@ -57,11 +52,23 @@ template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
 struct RiccatiOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   using type = OcpRiccatiBackend<Scalar, N, NX, NU, NG, NGN>;
 };
+/// The penalised block elimination (ocp_backend.hpp, the default before issue 15's Riccati
+/// backend): every row, the dynamics too, a proximal weight 1 / reg_dual.
+template <typename Qp>
+struct PenalisedOcpBackend;
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+struct PenalisedOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
+  using type = OcpBackend<Scalar, N, NX, NU, NG, NGN>;
+};
+/// The default linear algebra of OcpQpSolver<Qp>: the Riccati backend.
+template <typename Qp>
+struct DefaultOcpBackend : RiccatiOcpBackend<Qp> {};
 }  // namespace detail
 
 /// Structure-exploiting active-set solver for an OcpQp type `Qp` (see the top of this file).
-/// `Backend` selects the linear algebra (the default, or detail::OcpCholeskyBackend for
-/// comparisons); both take the same problem and give the same results up to round-off.
+/// `Backend` selects the linear algebra (the default Riccati backend, the penalised
+/// detail::PenalisedOcpBackend<Qp>::type or detail::OcpCholeskyBackend for comparisons); all take
+/// the same problem and give the same results up to round-off.
 template <typename Qp, typename Backend = typename detail::DefaultOcpBackend<Qp>::type>
 class OcpQpSolver;
 

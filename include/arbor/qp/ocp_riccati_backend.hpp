@@ -22,9 +22,9 @@
 // dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
 // + 2 NX^2 multiply-adds per stage (1.8 k for the Kinova size; the penalised solve: 1.3 k).
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
-// penalised one: 753 k), one solve_exact ~75 k (the penalised solve ~45 k: the triangular
-// products with the packed Lxx and the four [A B] products per stage are the next thing to make
-// cheaper).
+// penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
+// gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve
+// ~45 k). This is the default backend of OcpQpSolver (ocp_qp_solver.hpp).
 // Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
 // (downdate) of L_k leaves, after its u columns, the vector v^ with P_k +-= v^ v^', so M_{k-1}
 // changes by +-(F_{k-1}' v^)(F_{k-1}' v^)': one sweep from stage k down to stage 0,
