@@ -56,15 +56,17 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
                                        const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
                                        const Eigen::MatrixBase<T>& tau, const Vec3<Scalar>& g,
                                        const typename Data<R, Scalar>::ForceArray* fext) {
+  // Per-body passes flattened for floating-point scalars (static_for_flat).
+  constexpr bool flat = std::is_floating_point_v<Scalar>;
   minverse<R>(d, q);  // also the joint states
   // Velocity part and the accelerations at ddq = 0; composite forces at ddq = 0 in data.f.
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     deriv_forward_velocity<R, i, HasFext>(d, dd, v, fext);
     deriv_forward_acceleration<R, i>(d, dd, v, Data<R, Scalar>::Vector::Zero(), g);
     d.f[i] = dd.of[i];
   });
-  static_for_reverse<R::nb>([&](auto I) {
+  static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     d.tau[i] = spatial::dot(d.f[i], Motion<Scalar>::from(d.J.col(i)));  // nle_i
@@ -73,7 +75,7 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
   });
   d.ddq.noalias() = d.Minv * (tau.template cast<Scalar>() - d.tau);
   // Fix-up: world accelerations of ddq (data.a holds their increments), ddS and forces.
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
@@ -88,7 +90,7 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
     if constexpr (!WorldInertia<R, i, Scalar>::massless)
       dd.of[i] += dd.oYcrb[i] * d.a[i];
   });
-  static_for_reverse<R::nb>(
+  static_for_reverse_flat<R::nb, flat>(
       [&](auto I) { deriv_backward_body<R, decltype(I)::value, false>(d, dd); });
   minus_minv_times_derivatives(d, dd);
 }

@@ -296,13 +296,14 @@ ARBOR_INLINE void rnea_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sc
                                         const Eigen::MatrixBase<V>& v,
                                         const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g,
                                         const typename Data<R, Scalar>::ForceArray* fext) {
+  constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
   joint_states(d, q);
-  static_for<R::nb>([&](auto I) {
+  static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     deriv_forward_velocity<R, i, HasFext>(d, dd, v, fext);
     deriv_forward_acceleration<R, i>(d, dd, v, a, g);
   });
-  static_for_reverse<R::nb>(
+  static_for_reverse_flat<R::nb, flat>(
       [&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d, dd); });
 }
 
