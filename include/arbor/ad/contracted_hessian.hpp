@@ -4,6 +4,9 @@
 //   AutoDiff     forward over forward: nested Dual<Dual<T, nin>, chunk> through F's templates,
 //                the outer directions in chunks of at most 8 (the paper's H^c);
 //   Analytical   Dual<T, nin> through the analytical first-order routine (the paper's H^a);
+//   Generated    straight-line code generated at build time (gen/ad: one symbolic reverse sweep
+//                for the gradient of lambda^T F, then its Jacobian, forward or reverse; the
+//                robot's generated <robots/NAME_ad_hessian.hpp> must be included);
 //   SecondOrder  the analytical second-order routines at T (rnea_second_order_derivatives,
 //                aba_second_order_derivatives; InverseDynamics and ForwardDynamics only).
 // Cost: AutoDiff ~ (nin / chunk) passes at nested duals; Analytical one derivative sweep at
@@ -45,14 +48,16 @@ struct SecondOrderWorkspace : RbdWorkspace<R, Scalars<T>, Scalars<T>> {
 /// The workspace contracted_hessian<Tag> of F needs at scalar T.
 template <class F, class Tag, class T = double>
 using HessianWorkspace = std::conditional_t<
-    std::is_same_v<Tag, SecondOrder>, SecondOrderWorkspace<typename F::Robot, T>,
+    std::is_same_v<Tag, Generated>, RbdWorkspace<typename F::Robot, Scalars<>>,
     std::conditional_t<
-        std::is_same_v<Tag, Analytical>,
-        RbdWorkspace<
-            typename F::Robot, Scalars<Dual<T, F::nin>>,
-            std::conditional_t<F::needs_derivative_data, Scalars<Dual<T, F::nin>>, Scalars<>>>,
-        RbdWorkspace<typename F::Robot,
-                     Scalars<Dual<Dual<T, F::nin>, detail::hessian_chunk<F::nin>>>>>>;
+        std::is_same_v<Tag, SecondOrder>, SecondOrderWorkspace<typename F::Robot, T>,
+        std::conditional_t<
+            std::is_same_v<Tag, Analytical>,
+            RbdWorkspace<
+                typename F::Robot, Scalars<Dual<T, F::nin>>,
+                std::conditional_t<F::needs_derivative_data, Scalars<Dual<T, F::nin>>, Scalars<>>>,
+            RbdWorkspace<typename F::Robot,
+                         Scalars<Dual<Dual<T, F::nin>, detail::hessian_chunk<F::nin>>>>>>>;
 
 /// H = d^2 (lambda^T F(x)) / dx^2 (symmetric, nin x nin) from provider Tag, for the function of
 /// handle f (bind<F>(ws) with ws a HessianWorkspace<F, Tag, T>); also returns y = F(x).
@@ -60,7 +65,13 @@ template <class Tag, class F, class W, class T>
 void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
                         const VecN<T, F::nout>& lambda, VecN<T, F::nout>& y,
                         Eigen::Matrix<T, F::nin, F::nin>& H) {
-  if constexpr (std::is_same_v<Tag, SecondOrder>) {
+  if constexpr (std::is_same_v<Tag, Generated>) {
+    static_assert(GeneratedHessian<F>::available,
+                  "no generated Hessian for this function: generate the robot's AD code with "
+                  "HESSIANS (CMake arbor_add_robot_ad) and include <robots/NAME_ad_hessian.hpp> "
+                  "before this call");
+    GeneratedHessian<F>::hessian(x.data(), lambda.data(), y.data(), H.data());
+  } else if constexpr (std::is_same_v<Tag, SecondOrder>) {
     using R = typename F::Robot;
     constexpr int nv = R::nv;
     constexpr bool id = std::is_same_v<F, InverseDynamics<R>>;
@@ -100,7 +111,8 @@ void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
         H(a, b) = s;
       }
   } else {
-    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical, AutoDiff or SecondOrder");
+    static_assert(std::is_same_v<Tag, AutoDiff>,
+                  "Tag must be Analytical, AutoDiff, Generated or SecondOrder");
     constexpr int n = F::nin;
     constexpr int m = F::nout;
     using D = Dual<T, n>;

@@ -13,7 +13,10 @@
 // which is also what the expression layer's call<Tag>(handle, args...) node uses. The provider:
 //   Analytical  the analytical derivative routines (rnea_derivatives, aba_derivatives,
 //               frame_position_derivative): the paper's J^a;
-//   AutoDiff    Dual<T, nin> through the RBD templates: the paper's J^c.
+//   AutoDiff    Dual<T, nin> through the RBD templates: the paper's J^c;
+//   Generated   straight-line code generated at build time by symbolic differentiation of the
+//               same templates (gen/ad; include the robot's generated header, e.g.
+//               <robots/kinova_gen3_ad.hpp> from arbor_add_robot_ad): J^c as CasADi makes it.
 // The functions are:
 //   ForwardDynamics<R>      x = (q, v, tau) -> ddq         (aba)
 //   InverseDynamics<R>      x = (q, v, a)   -> tau         (rnea)
@@ -68,8 +71,14 @@ void provider_value_and_jacobian(W& ws, const VecN<T, F::nin>& x, VecN<T, F::nou
                                  Eigen::Matrix<T, F::nout, F::nin>& J) {
   if constexpr (std::is_same_v<Tag, Analytical>) {
     F::analytical(ws, x, y, J);
+  } else if constexpr (std::is_same_v<Tag, Generated>) {
+    static_assert(GeneratedCode<F>::available,
+                  "no generated code for this function: generate the robot's AD header "
+                  "(CMake arbor_add_robot_ad) and include it before this call");
+    (void)ws;
+    GeneratedCode<F>::jacobian(x.data(), y.data(), J.data());
   } else {
-    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical or AutoDiff");
+    static_assert(std::is_same_v<Tag, AutoDiff>, "Tag must be Analytical, AutoDiff or Generated");
     using D = Dual<T, F::nin>;
     VecN<D, F::nin> xd;
     seed<T, F::nin>(x, xd);
@@ -85,13 +94,16 @@ template <class F, class T = double>
 using ValueWorkspace = RbdWorkspace<typename F::Robot, Scalars<T>>;
 
 /// The workspace value_and_jacobian<F, Tag, T> needs: Analytical, a Data and (for the dynamics)
-/// a DerivativeData at T; AutoDiff, a Data at Dual<T, F::nin>.
+/// a DerivativeData at T; AutoDiff, a Data at Dual<T, F::nin>; Generated, nothing (its
+/// temporaries are the generated function's locals, on the stack).
 template <class F, class Tag, class T = double>
 using JacobianWorkspace = std::conditional_t<
-    std::is_same_v<Tag, Analytical>,
-    RbdWorkspace<typename F::Robot, Scalars<T>,
-                 std::conditional_t<F::needs_derivative_data, Scalars<T>, Scalars<>>>,
-    RbdWorkspace<typename F::Robot, Scalars<Dual<T, F::nin>>>>;
+    std::is_same_v<Tag, Generated>, RbdWorkspace<typename F::Robot, Scalars<>>,
+    std::conditional_t<
+        std::is_same_v<Tag, Analytical>,
+        RbdWorkspace<typename F::Robot, Scalars<T>,
+                     std::conditional_t<F::needs_derivative_data, Scalars<T>, Scalars<>>>,
+        RbdWorkspace<typename F::Robot, Scalars<Dual<T, F::nin>>>>>;
 
 /// A handle binding function F to a caller-owned workspace W (a pointer: cheap to copy; the
 /// workspace must outlive the handle and provide every scalar the handle is called at).

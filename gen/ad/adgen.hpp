@@ -1,0 +1,506 @@
+// arbor-adgen (host program, not part of the library): symbolic differentiation of the RBD
+// templates into straight-line code, the way the paper's CasADi code generation works.
+//
+// 1. Trace. `Sym` is a scalar whose every operation appends a node to one expression graph
+//    (Graph): constants and inputs are nodes too. Instantiating aba / rnea / forward kinematics
+//    with Sym records the whole function as a DAG. While recording, the graph
+//      - folds constants (c op c, x * 0, x * 1, x * -1, x + 0, x - x, x / x, -(-x), a + (-b)),
+//      - hash-conses: an operation on the same operands returns the existing node (common
+//        subexpressions are found, across the primal and the derivative sweeps alike).
+//    Comparisons of non-constant values would make the code value dependent: the graph records
+//    them and the generator refuses to emit (aba and rnea have no such branch).
+// 2. Differentiate on the graph, symbolically: forward mode (one tangent sweep per input
+//    direction) or reverse mode (one adjoint sweep per output); a derivative that is zero by
+//    structure stays the constant 0 and costs nothing (sparsity for free). Both are built, the
+//    one with fewer live operations is kept (per function).
+//    Hessians of lambda^T F: one reverse sweep for the gradient (lambda symbolic), then the
+//    Jacobian of that gradient (forward over reverse, or reverse over reverse, the cheaper).
+// 3. Dead-code elimination: only nodes the requested outputs depend on are emitted, as
+//    `const S t<i> = t<j> op t<k>;` in a function template over the scalar S.
+//
+// Host code: uses the heap and one global graph pointer (like the URDF generator, it never runs
+// on a target). The emitted code has neither.
+#pragma once
+
+#include <Eigen/Core>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace arbor::adgen {
+
+enum class Op : std::uint8_t { constant, input, add, sub, mul, div, neg, sqrt, sin, cos };
+
+struct Node {
+  Op op;
+  int a, b;  // operands (-1: none)
+  double c;  // constant value, or input index
+};
+
+/// The expression graph: nodes in creation order (a topological order), hash-consed.
+class Graph {
+ public:
+  std::vector<Node> nodes;
+  std::vector<double> val;  // value of every node at the tracing point (branch checks)
+  bool value_branch = false;
+
+  Graph() {
+    constant(0.0);  // node 0
+    constant(1.0);  // node 1
+  }
+
+  int constant(double c) {
+    if (c == 0.0)
+      c = 0.0;  // -0 and 0 are one node
+    std::uint64_t bits;
+    std::memcpy(&bits, &c, sizeof bits);
+    auto it = consts_.find(bits);
+    if (it != consts_.end())
+      return it->second;
+    const int id = push(Node{Op::constant, -1, -1, c}, c);
+    consts_.emplace(bits, id);
+    return id;
+  }
+  int input(int k, double value) { return push(Node{Op::input, -1, -1, double(k)}, value); }
+
+  bool is_const(int i) const { return nodes[i].op == Op::constant; }
+  bool is_c(int i, double c) const { return is_const(i) && nodes[i].c == c; }
+
+  /// A new operation, folded and hash-consed.
+  int make(Op op, int a, int b = -1) {
+    const bool unary = b < 0;
+    if (is_const(a) && (unary || is_const(b)))
+      return constant(eval(op, nodes[a].c, unary ? 0.0 : nodes[b].c));
+    switch (op) {
+      case Op::add:
+        if (is_c(a, 0.0))
+          return b;
+        if (is_c(b, 0.0))
+          return a;
+        if (nodes[b].op == Op::neg)
+          return make(Op::sub, a, nodes[b].a);
+        if (nodes[a].op == Op::neg)
+          return make(Op::sub, b, nodes[a].a);
+        if (a > b)
+          std::swap(a, b);
+        break;
+      case Op::sub:
+        if (is_c(b, 0.0))
+          return a;
+        if (is_c(a, 0.0))
+          return make(Op::neg, b);
+        if (a == b)
+          return 0;
+        if (nodes[b].op == Op::neg)
+          return make(Op::add, a, nodes[b].a);
+        break;
+      case Op::mul:
+        if (is_c(a, 0.0) || is_c(b, 0.0))
+          return 0;
+        if (is_c(a, 1.0))
+          return b;
+        if (is_c(b, 1.0))
+          return a;
+        if (is_c(a, -1.0))
+          return make(Op::neg, b);
+        if (is_c(b, -1.0))
+          return make(Op::neg, a);
+        if (is_const(b))
+          std::swap(a, b);                          // a constant first
+        if (is_const(a) && nodes[b].op == Op::neg)  // c (-x) = (-c) x
+          return make(Op::mul, constant(-nodes[a].c), nodes[b].a);
+        if (!is_const(a) && a > b)
+          std::swap(a, b);
+        break;
+      case Op::div:
+        if (is_c(a, 0.0))
+          return 0;
+        if (is_c(b, 1.0))
+          return a;
+        if (is_c(b, -1.0))
+          return make(Op::neg, a);
+        if (a == b)
+          return 1;
+        break;
+      case Op::neg:
+        if (nodes[a].op == Op::neg)
+          return nodes[a].a;
+        if (nodes[a].op == Op::mul && is_const(nodes[a].a))  // -(c x) = (-c) x
+          return make(Op::mul, constant(-nodes[nodes[a].a].c), nodes[a].b);
+        if (nodes[a].op == Op::sub)  // -(x - y) = y - x
+          return make(Op::sub, nodes[a].b, nodes[a].a);
+        break;
+      default:
+        break;
+    }
+    const std::uint64_t key = (std::uint64_t(op) << 58) | (std::uint64_t(std::uint32_t(a)) << 29) |
+                              std::uint64_t(std::uint32_t(b + 1));
+    auto it = table_.find(key);
+    if (it != table_.end())
+      return it->second;
+    const int id = push(Node{op, a, b, 0.0}, eval(op, val[a], unary ? 0.0 : val[b]));
+    table_.emplace(key, id);
+    return id;
+  }
+
+  static double eval(Op op, double x, double y) {
+    switch (op) {
+      case Op::add:
+        return x + y;
+      case Op::sub:
+        return x - y;
+      case Op::mul:
+        return x * y;
+      case Op::div:
+        return x / y;
+      case Op::neg:
+        return -x;
+      case Op::sqrt:
+        return std::sqrt(x);
+      case Op::sin:
+        return std::sin(x);
+      case Op::cos:
+        return std::cos(x);
+      default:
+        return 0.0;
+    }
+  }
+
+ private:
+  int push(const Node& n, double v) {
+    nodes.push_back(n);
+    val.push_back(v);
+    return int(nodes.size()) - 1;
+  }
+  std::unordered_map<std::uint64_t, int> consts_;
+  std::unordered_map<std::uint64_t, int> table_;
+};
+
+/// The graph Sym records into (one at a time; host program only).
+inline Graph* current = nullptr;
+
+/// The tracing scalar: a node of *current.
+class Sym {
+ public:
+  Sym() : id_(0) {}
+  Sym(double c) : id_(current->constant(c)) {}  // NOLINT(google-explicit-constructor)
+  static Sym node(int id) {
+    Sym s;
+    s.id_ = id;
+    return s;
+  }
+  int id() const { return id_; }
+
+  friend Sym operator+(const Sym& a) { return a; }
+  friend Sym operator-(const Sym& a) { return node(current->make(Op::neg, a.id_)); }
+  friend Sym operator+(const Sym& a, const Sym& b) {
+    return node(current->make(Op::add, a.id_, b.id_));
+  }
+  friend Sym operator-(const Sym& a, const Sym& b) {
+    return node(current->make(Op::sub, a.id_, b.id_));
+  }
+  friend Sym operator*(const Sym& a, const Sym& b) {
+    return node(current->make(Op::mul, a.id_, b.id_));
+  }
+  friend Sym operator/(const Sym& a, const Sym& b) {
+    return node(current->make(Op::div, a.id_, b.id_));
+  }
+  Sym& operator+=(const Sym& b) { return *this = *this + b; }
+  Sym& operator-=(const Sym& b) { return *this = *this - b; }
+  Sym& operator*=(const Sym& b) { return *this = *this * b; }
+  Sym& operator/=(const Sym& b) { return *this = *this / b; }
+  friend Sym sqrt(const Sym& a) { return node(current->make(Op::sqrt, a.id_)); }
+  friend Sym sin(const Sym& a) { return node(current->make(Op::sin, a.id_)); }
+  friend Sym cos(const Sym& a) { return node(current->make(Op::cos, a.id_)); }
+
+  friend bool operator==(const Sym& a, const Sym& b) { return cmp(a, b) == 0; }
+  friend bool operator!=(const Sym& a, const Sym& b) { return cmp(a, b) != 0; }
+  friend bool operator<(const Sym& a, const Sym& b) { return cmp(a, b) < 0; }
+  friend bool operator>(const Sym& a, const Sym& b) { return cmp(a, b) > 0; }
+  friend bool operator<=(const Sym& a, const Sym& b) { return cmp(a, b) <= 0; }
+  friend bool operator>=(const Sym& a, const Sym& b) { return cmp(a, b) >= 0; }
+  friend Sym abs(const Sym& a) { return a < Sym(0.0) ? -a : a; }
+
+ private:
+  static int cmp(const Sym& a, const Sym& b) {
+    Graph& g = *current;
+    if (!(g.is_const(a.id_) && g.is_const(b.id_)))
+      g.value_branch = true;
+    const double x = g.val[a.id_], y = g.val[b.id_];
+    return x < y ? -1 : (x > y ? 1 : 0);
+  }
+  int id_;
+};
+
+/// Nodes the outputs depend on.
+inline std::vector<char> live_set(const Graph& g, const std::vector<int>& outs, int n) {
+  std::vector<char> live(n, 0);
+  for (int o : outs)
+    live[o] = 1;
+  for (int i = n; i-- > 0;) {
+    if (!live[i])
+      continue;
+    const Node& nd = g.nodes[i];
+    if (nd.a >= 0)
+      live[nd.a] = 1;
+    if (nd.b >= 0)
+      live[nd.b] = 1;
+  }
+  return live;
+}
+
+/// Operations (non-constant, non-input nodes) the outputs depend on.
+inline long count_ops(const Graph& g, const std::vector<int>& outs) {
+  const auto live = live_set(g, outs, int(g.nodes.size()));
+  long n = 0;
+  for (std::size_t i = 0; i < live.size(); ++i)
+    n += live[i] && g.nodes[i].op != Op::constant && g.nodes[i].op != Op::input;
+  return n;
+}
+
+/// Forward mode: J (outs.size() x ins.size(), column major) of node ids.
+inline std::vector<int> jacobian_forward(Graph& g, const std::vector<int>& outs,
+                                         const std::vector<int>& ins) {
+  const int n0 = int(g.nodes.size());
+  const auto live = live_set(g, outs, n0);
+  std::vector<int> order;
+  for (int i = 0; i < n0; ++i)
+    if (live[i] && g.nodes[i].op != Op::constant && g.nodes[i].op != Op::input)
+      order.push_back(i);
+  const int m = int(outs.size());
+  std::vector<int> J(std::size_t(m) * ins.size(), 0);
+  std::vector<int> t(n0, -1);
+  for (std::size_t k = 0; k < ins.size(); ++k) {
+    std::fill(t.begin(), t.end(), -1);
+    t[ins[k]] = 1;
+    for (int i : order) {
+      const Node nd = g.nodes[i];
+      const int ta = nd.a >= 0 ? t[nd.a] : -1;
+      const int tb = nd.b >= 0 ? t[nd.b] : -1;
+      if (ta < 0 && tb < 0)
+        continue;
+      int r = -1;
+      switch (nd.op) {
+        case Op::add:
+          r = ta < 0 ? tb : (tb < 0 ? ta : g.make(Op::add, ta, tb));
+          break;
+        case Op::sub:
+          r = ta < 0 ? g.make(Op::neg, tb) : (tb < 0 ? ta : g.make(Op::sub, ta, tb));
+          break;
+        case Op::mul: {
+          const int x = ta < 0 ? -1 : g.make(Op::mul, ta, nd.b);
+          const int y = tb < 0 ? -1 : g.make(Op::mul, nd.a, tb);
+          r = x < 0 ? y : (y < 0 ? x : g.make(Op::add, x, y));
+          break;
+        }
+        case Op::div: {
+          const int inv = g.make(Op::div, 1, nd.b);
+          const int x = ta < 0 ? -1 : g.make(Op::mul, ta, inv);
+          const int y = tb < 0 ? -1 : g.make(Op::mul, tb, g.make(Op::mul, i, inv));
+          r = x < 0 ? g.make(Op::neg, y) : (y < 0 ? x : g.make(Op::sub, x, y));
+          break;
+        }
+        case Op::neg:
+          r = g.make(Op::neg, ta);
+          break;
+        case Op::sqrt:
+          r = g.make(Op::mul, ta, g.make(Op::div, g.constant(0.5), i));
+          break;
+        case Op::sin:
+          r = g.make(Op::mul, ta, g.make(Op::cos, nd.a));
+          break;
+        case Op::cos:
+          r = g.make(Op::mul, ta, g.make(Op::neg, g.make(Op::sin, nd.a)));
+          break;
+        default:
+          break;
+      }
+      t[i] = (r >= 0 && g.is_c(r, 0.0)) ? -1 : r;
+    }
+    for (int o = 0; o < m; ++o)
+      J[k * m + o] = t[outs[o]] < 0 ? 0 : t[outs[o]];
+  }
+  return J;
+}
+
+/// Reverse mode: the gradient of every output, one adjoint sweep each; J column major.
+inline std::vector<int> jacobian_reverse(Graph& g, const std::vector<int>& outs,
+                                         const std::vector<int>& ins) {
+  const int n0 = int(g.nodes.size());
+  const int m = int(outs.size());
+  std::vector<int> J(std::size_t(m) * ins.size(), 0);
+  std::vector<int> adj(n0, -1);
+  for (int o = 0; o < m; ++o) {
+    const auto live = live_set(g, {outs[o]}, n0);
+    std::fill(adj.begin(), adj.end(), -1);
+    auto acc = [&](int x, int w, bool minus) {
+      if (g.is_const(x) || w < 0 || g.is_c(w, 0.0))
+        return;
+      if (adj[x] < 0)
+        adj[x] = minus ? g.make(Op::neg, w) : w;
+      else
+        adj[x] = g.make(minus ? Op::sub : Op::add, adj[x], w);
+    };
+    adj[outs[o]] = 1;
+    for (int i = n0; i-- > 0;) {
+      if (!live[i] || adj[i] < 0)
+        continue;
+      const Node nd = g.nodes[i];
+      const int w = adj[i];
+      switch (nd.op) {
+        case Op::add:
+          acc(nd.a, w, false);
+          acc(nd.b, w, false);
+          break;
+        case Op::sub:
+          acc(nd.a, w, false);
+          acc(nd.b, w, true);
+          break;
+        case Op::mul:
+          acc(nd.a, g.make(Op::mul, w, nd.b), false);
+          acc(nd.b, g.make(Op::mul, w, nd.a), false);
+          break;
+        case Op::div: {
+          const int inv = g.make(Op::div, 1, nd.b);
+          acc(nd.a, g.make(Op::mul, w, inv), false);
+          acc(nd.b, g.make(Op::mul, w, g.make(Op::mul, i, inv)), true);
+          break;
+        }
+        case Op::neg:
+          acc(nd.a, w, true);
+          break;
+        case Op::sqrt:
+          acc(nd.a, g.make(Op::mul, w, g.make(Op::div, g.constant(0.5), i)), false);
+          break;
+        case Op::sin:
+          acc(nd.a, g.make(Op::mul, w, g.make(Op::cos, nd.a)), false);
+          break;
+        case Op::cos:
+          acc(nd.a, g.make(Op::mul, w, g.make(Op::sin, nd.a)), true);
+          break;
+        default:
+          break;
+      }
+    }
+    for (std::size_t k = 0; k < ins.size(); ++k)
+      J[k * m + o] = adj[ins[k]] < 0 ? 0 : adj[ins[k]];
+  }
+  return J;
+}
+
+/// One output array of an emitted function: a parameter name and its node ids.
+struct Output {
+  std::string name;
+  std::vector<int> ids;
+};
+
+/// Emits `template <class S> static void <name>(const S* <in0>, ..., S* <out0>, ...)` computing
+/// the outputs as straight-line code; inputs are the graph's input nodes, input k being element
+/// k of the concatenation of the input arrays (names and sizes given). Returns the number of
+/// operations emitted.
+inline long emit_function(std::string& out, const Graph& g, const std::string& name,
+                          const std::vector<std::pair<std::string, int>>& inputs,
+                          const std::vector<Output>& outputs) {
+  std::vector<int> all;
+  for (const auto& o : outputs)
+    all.insert(all.end(), o.ids.begin(), o.ids.end());
+  const int n = int(g.nodes.size());
+  const auto live = live_set(g, all, n);
+  std::vector<int> local(n, -1);
+  std::string body;
+  char buf[160];
+  int next = 0;
+  long ops = 0;
+  auto ref = [&](int i) -> std::string {
+    if (g.nodes[i].op == Op::constant) {
+      // shortest text that reads back as the same double
+      char num[64];
+      const auto r = std::to_chars(num, num + sizeof num, g.nodes[i].c);
+      *r.ptr = '\0';
+      std::snprintf(buf, sizeof buf, "S(%s)", num);
+      return buf;
+    }
+    return "t" + std::to_string(local[i]);
+  };
+  for (int i = 0; i < n; ++i) {
+    if (!live[i] || g.nodes[i].op == Op::constant)
+      continue;
+    const Node& nd = g.nodes[i];
+    local[i] = next++;
+    std::string rhs;
+    if (nd.op == Op::input) {
+      int k = int(nd.c);
+      for (const auto& [in, size] : inputs) {
+        if (k < size) {
+          rhs = in + "[" + std::to_string(k) + "]";
+          break;
+        }
+        k -= size;
+      }
+    } else {
+      ++ops;
+      const char* bin = nd.op == Op::add   ? " + "
+                        : nd.op == Op::sub ? " - "
+                        : nd.op == Op::mul ? " * "
+                        : nd.op == Op::div ? " / "
+                                           : nullptr;
+      if (bin)
+        rhs = ref(nd.a) + bin + ref(nd.b);
+      else if (nd.op == Op::neg)
+        rhs = "-" + ref(nd.a);
+      else
+        rhs = std::string(nd.op == Op::sqrt  ? "sqrt("
+                          : nd.op == Op::sin ? "sin("
+                                             : "cos(") +
+              ref(nd.a) + ")";
+    }
+    body += "    const S t" + std::to_string(local[i]) + " = " + rhs + ";\n";
+  }
+  for (const auto& o : outputs)
+    for (std::size_t k = 0; k < o.ids.size(); ++k)
+      body += "    " + o.name + "[" + std::to_string(k) + "] = " + ref(o.ids[k]) + ";\n";
+  out += "  template <class S>\n  static void " + name + "(";
+  bool first = true;
+  for (const auto& [in, size] : inputs) {
+    out += std::string(first ? "" : ", ") + "const S* " + in;
+    first = false;
+  }
+  for (const auto& o : outputs)
+    out += ", S* " + o.name;
+  out += ") {\n    using arbor::sin;\n    using arbor::cos;\n    using arbor::sqrt;\n";
+  for (const auto& in : inputs)
+    out += "    (void)" + in.first + ";\n";
+  out += body + "  }\n";
+  return ops;
+}
+
+}  // namespace arbor::adgen
+
+namespace Eigen {
+template <>
+struct NumTraits<arbor::adgen::Sym> : NumTraits<double> {
+  using Real = arbor::adgen::Sym;
+  using NonInteger = arbor::adgen::Sym;
+  using Nested = arbor::adgen::Sym;
+  using Literal = arbor::adgen::Sym;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = 1,
+    AddCost = 1,
+    MulCost = 1
+  };
+  static inline Real epsilon() { return Real(NumTraits<double>::epsilon()); }
+  static inline Real dummy_precision() { return Real(NumTraits<double>::dummy_precision()); }
+  static inline Real highest() { return Real(NumTraits<double>::highest()); }
+  static inline Real lowest() { return Real(NumTraits<double>::lowest()); }
+  static inline int digits10() { return NumTraits<double>::digits10(); }
+};
+}  // namespace Eigen

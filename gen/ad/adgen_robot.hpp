@@ -1,0 +1,240 @@
+// arbor-adgen's driver (host program): traces ForwardDynamics, InverseDynamics and every
+// FramePosition of robot R with the symbolic scalar (adgen.hpp), differentiates, and writes the
+// header of generated straight-line code (GeneratedCode specialisations, arbor/ad/generated.hpp).
+// Instantiated per robot by adgen_robot.cpp.in (ArborAddRobotAd.cmake).
+#pragma once
+
+#include <arbor/dynamics/aba.hpp>
+#include <arbor/dynamics/kinematics.hpp>
+#include <arbor/dynamics/rnea.hpp>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "adgen.hpp"
+
+namespace arbor::adgen {
+
+/// Statistics of one generated function (reported in the header and on stdout).
+struct Stats {
+  long primal_ops = 0, forward_ops = 0, reverse_ops = 0, jacobian_ops = 0, hessian_ops = 0;
+  const char* mode = "";
+  const char* hessian_mode = "";
+};
+
+/// The Jacobian of outs w.r.t. ins, forward or reverse, whichever has fewer live operations
+/// together with the values `keep` (on a copy of g: the loser's nodes are dropped).
+inline std::vector<int> best_jacobian(Graph& g, const std::vector<int>& outs,
+                                      const std::vector<int>& ins, const std::vector<int>& keep,
+                                      long& fwd_ops, long& rev_ops, const char*& mode) {
+  Graph gf = g, gr = g;
+  current = &gf;
+  auto Jf = jacobian_forward(gf, outs, ins);
+  current = &gr;
+  auto Jr = jacobian_reverse(gr, outs, ins);
+  auto with = [&](const std::vector<int>& J) {
+    std::vector<int> all = keep;
+    all.insert(all.end(), J.begin(), J.end());
+    return all;
+  };
+  fwd_ops = count_ops(gf, with(Jf));
+  rev_ops = count_ops(gr, with(Jr));
+  if (fwd_ops <= rev_ops) {
+    g = std::move(gf);
+    mode = "forward";
+    current = &g;
+    return Jf;
+  }
+  g = std::move(gr);
+  mode = "reverse";
+  current = &g;
+  return Jr;
+}
+
+/// Emits GeneratedCode<Function> with jacobian(x, y, J) (and, if hessian_code is given,
+/// GeneratedHessian<Function> with hessian(x, lambda, y, H) into it) for a function traced by
+/// `trace(xs, ys)` with nin inputs and nout outputs.
+template <class Trace>
+std::string generate_function(const std::string& function, int nin, int nout,
+                              std::string* hessian_code, Trace&& trace, Stats& st) {
+  const bool hessian = hessian_code != nullptr;
+  std::string code;
+  std::string body;
+  std::string hbody;
+  // Jacobian.
+  {
+    Graph g;
+    current = &g;
+    std::vector<Sym> x(nin), y(nout);
+    std::vector<int> ins(nin);
+    for (int k = 0; k < nin; ++k) {
+      ins[k] = g.input(k, 0.3 + 0.37 * k - 0.05 * (k % 5) * k);
+      x[k] = Sym::node(ins[k]);
+    }
+    trace(x, y);
+    if (g.value_branch) {
+      std::fprintf(stderr, "arbor-adgen: %s branches on a traced value\n", function.c_str());
+      std::exit(1);
+    }
+    std::vector<int> outs(nout);
+    for (int i = 0; i < nout; ++i)
+      outs[i] = y[i].id();
+    st.primal_ops = count_ops(g, outs);
+    const auto J = best_jacobian(g, outs, ins, outs, st.forward_ops, st.reverse_ops, st.mode);
+    st.jacobian_ops = emit_function(body, g, "jacobian", {{"x", nin}}, {{"y", outs}, {"J", J}});
+  }
+  if (hessian) {
+    Graph g;
+    current = &g;
+    std::vector<Sym> x(nin), y(nout);
+    std::vector<int> ins(nin);
+    for (int k = 0; k < nin; ++k) {
+      ins[k] = g.input(k, 0.3 + 0.37 * k - 0.05 * (k % 5) * k);
+      x[k] = Sym::node(ins[k]);
+    }
+    trace(x, y);
+    Sym s(0.0);
+    for (int i = 0; i < nout; ++i)
+      s += Sym::node(g.input(nin + i, 0.1 + 0.3 * i)) * y[i];
+    std::vector<int> outs(nout);
+    for (int i = 0; i < nout; ++i)
+      outs[i] = y[i].id();
+    const auto grad = jacobian_reverse(g, {s.id()}, ins);  // 1 x nin
+    long f = 0, r = 0;
+    const auto H = best_jacobian(g, grad, ins, outs, f, r, st.hessian_mode);
+    // H is symmetric: the upper triangle from the lower (one set of nodes, either mode).
+    std::vector<int> Hs(H);
+    for (int c = 0; c < nin; ++c)
+      for (int rr = 0; rr < c; ++rr)
+        Hs[c * nin + rr] = H[rr * nin + c];
+    st.hessian_ops = emit_function(hbody, g, "hessian", {{"x", nin}, {"lambda", nout}},
+                                   {{"y", outs}, {"H", Hs}});
+  }
+  code += "template <>\nstruct GeneratedCode<" + function + "> {\n";
+  code += "  static constexpr bool available = true;\n";
+  code += "  /// Operations of the traced function (live) and of jacobian() (" +
+          std::string(st.mode) + " mode; forward " + std::to_string(st.forward_ops) + ", reverse " +
+          std::to_string(st.reverse_ops) + ").\n";
+  code += "  static constexpr long primal_ops = " + std::to_string(st.primal_ops) + ";\n";
+  code += "  static constexpr long jacobian_ops = " + std::to_string(st.jacobian_ops) + ";\n";
+  code += body + "};\n\n";
+  if (hessian) {
+    *hessian_code += "template <>\nstruct GeneratedHessian<" + function + "> {\n";
+    *hessian_code += "  static constexpr bool available = true;\n";
+    *hessian_code += "  /// Operations of hessian() (the gradient by reverse mode, then " +
+                     std::string(st.hessian_mode) + " mode).\n";
+    *hessian_code +=
+        "  static constexpr long hessian_ops = " + std::to_string(st.hessian_ops) + ";\n";
+    *hessian_code += hbody + "};\n\n";
+  }
+  return code;
+}
+
+template <class R, int F>
+void frame_function(std::string& code, const std::string& robot, std::vector<Stats>& stats) {
+  stats.emplace_back();
+  code += generate_function(
+      "FramePosition<" + robot + ", " + std::to_string(F) + ">", R::nv, 3, nullptr,
+      [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
+        VecN<Sym, R::nv> q;
+        for (int k = 0; k < R::nv; ++k)
+          q[k] = x[k];
+        auto d = std::make_unique<Data<R, Sym>>();  // fresh: its constants in this graph
+        forward_kinematics<R>(*d, q);
+        const auto p = frame_placement<R>(*d, F).p;
+        for (int i = 0; i < 3; ++i)
+          y[i] = p[i];
+      },
+      stats.back());
+}
+
+/// The header for robot R (struct name `robot`, fully qualified; header `robot_header`).
+template <class R>
+int generate(int argc, char** argv, const std::string& robot, const std::string& robot_header) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s <jacobians.hpp> [<hessians.hpp>]\n", argv[0]);
+    return 2;
+  }
+  const bool hessians = argc > 2;
+  std::string hcode;
+  std::string* h = hessians ? &hcode : nullptr;
+  const auto t0 = std::chrono::steady_clock::now();
+  constexpr int nv = R::nv;
+  auto split = [](const std::vector<Sym>& x, VecN<Sym, nv>& a, VecN<Sym, nv>& b, VecN<Sym, nv>& c) {
+    for (int k = 0; k < nv; ++k) {
+      a[k] = x[k];
+      b[k] = x[nv + k];
+      c[k] = x[2 * nv + k];
+    }
+  };
+  std::vector<Stats> stats(2);
+  std::string code;
+  code += generate_function(
+      "ForwardDynamics<" + robot + ">", 3 * nv, nv, h,
+      [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
+        VecN<Sym, nv> q, v, tau;
+        split(x, q, v, tau);
+        auto d = std::make_unique<Data<R, Sym>>();
+        const auto& r = aba<R>(*d, q, v, tau);
+        for (int i = 0; i < nv; ++i)
+          y[i] = r[i];
+      },
+      stats[0]);
+  code += generate_function(
+      "InverseDynamics<" + robot + ">", 3 * nv, nv, h,
+      [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
+        VecN<Sym, nv> q, v, a;
+        split(x, q, v, a);
+        auto d = std::make_unique<Data<R, Sym>>();
+        const auto& r = rnea<R>(*d, q, v, a);
+        for (int i = 0; i < nv; ++i)
+          y[i] = r[i];
+      },
+      stats[1]);
+  [&]<int... F>(std::integer_sequence<int, F...>) {
+    (frame_function<R, F>(code, robot, stats), ...);
+  }
+  (std::make_integer_sequence<int, R::nf>{});
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  auto write = [&](const char* path, const std::string& what, const std::string& body) {
+    const std::string text =
+        "// Generated by arbor-adgen (gen/ad) for " + robot + ": do not edit.\n// Straight-line " +
+        what +
+        ", generic over the scalar;\n// selected by the provider tag arbor::ad::Generated. "
+        "Generation of this robot's code took " +
+        std::to_string(secs) + " s.\n#pragma once\n\n#include <" + robot_header +
+        ">\n\n#include \"arbor/ad/generated.hpp\"\n\nnamespace arbor::ad {\n\n" + body +
+        "}  // namespace arbor::ad\n";
+    std::FILE* f = std::fopen(path, "w");
+    if (!f) {
+      std::fprintf(stderr, "arbor-adgen: cannot write %s\n", path);
+      return false;
+    }
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+    std::printf("arbor-adgen %s: %s, %zu bytes\n", robot.c_str(), path, text.size());
+    return true;
+  };
+  if (!write(argv[1], "Jacobians of ForwardDynamics, InverseDynamics and FramePosition", code))
+    return 1;
+  if (hessians && !write(argv[2],
+                         "Hessians of lambda^T ForwardDynamics and lambda^T "
+                         "InverseDynamics",
+                         hcode))
+    return 1;
+  const char* names[] = {"FD", "ID"};
+  for (std::size_t i = 0; i < stats.size(); ++i)
+    std::printf("arbor-adgen %s %s%s: primal %ld, J forward %ld reverse %ld -> %s %ld, H %ld\n",
+                robot.c_str(), i < 2 ? names[i] : "frame",
+                i < 2 ? "" : std::to_string(i - 2).c_str(), stats[i].primal_ops,
+                stats[i].forward_ops, stats[i].reverse_ops, stats[i].mode, stats[i].jacobian_ops,
+                stats[i].hessian_ops);
+  std::printf("arbor-adgen %s: generation %.2f s\n", robot.c_str(), secs);
+  return 0;
+}
+
+}  // namespace arbor::adgen
