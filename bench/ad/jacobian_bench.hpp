@@ -1,7 +1,8 @@
 // Timings of the paper's Fig. 1 (J^a and J^c of FD and ID) and Table 2 (Hessians of
 // lambda^T FD and lambda^T ID, H^c and H^a) with Google Benchmark. Benchmark names:
 // "<quantity>/<robot>", quantity in J_FD_a, J_FD_c, J_ID_a, J_ID_c, H_FD_c, H_FD_a, H_ID_c,
-// H_ID_a. bench/ad/report.sh turns them into tables and the PNG.
+// H_ID_a, and J_FD_g, J_ID_g, H_FD_g, H_ID_g for the Generated provider (gen/ad).
+// bench/ad/report.sh turns them into tables and the PNG.
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -67,7 +68,23 @@ void register_robot(const std::string& name) {
   }
 }
 
-#define ARBOR_ROBOT(name, Struct) void register_##name();
+/// Registers J_FD_g, J_ID_g (and H_FD_g, H_ID_g if generated) of robot R: the Generated
+/// provider, whose header the calling unit includes.
+template <class R>
+void register_generated(const std::string& name) {
+  using FD = ad::ForwardDynamics<R>;
+  using ID = ad::InverseDynamics<R>;
+  benchmark::RegisterBenchmark(("J_FD_g/" + name).c_str(), bm_jacobian<FD, ad::Generated>);
+  benchmark::RegisterBenchmark(("J_ID_g/" + name).c_str(), bm_jacobian<ID, ad::Generated>);
+  if constexpr (ad::GeneratedHessian<FD>::available) {
+    benchmark::RegisterBenchmark(("H_FD_g/" + name).c_str(), bm_hessian<FD, ad::Generated>);
+    benchmark::RegisterBenchmark(("H_ID_g/" + name).c_str(), bm_hessian<ID, ad::Generated>);
+  }
+}
+
+#define ARBOR_ROBOT(name, Struct) \
+  void register_##name();         \
+  void register_generated_##name();
 #include <robots/benchmark_robots.inc>
 #undef ARBOR_ROBOT
 

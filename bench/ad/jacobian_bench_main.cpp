@@ -3,7 +3,9 @@
 
 int main(int argc, char** argv) {
   using namespace arbor::bench_ad;
-#define ARBOR_ROBOT(name, Struct) register_##name();
+#define ARBOR_ROBOT(name, Struct) \
+  register_##name();              \
+  register_generated_##name();
 #include <robots/benchmark_robots.inc>
 #undef ARBOR_ROBOT
   benchmark::Initialize(&argc, argv);
