@@ -9,12 +9,19 @@
 /// Force-inline hint used on small hot functions of the unrolled recursions.
 /// ARBOR_FLATTEN (a function, or a lambda after its parameter list): every call inside it is
 /// inlined, whatever the compiler's inlining budget of the translation unit (static_for_flat).
+/// Defining ARBOR_FLATTEN empty before any arbor header (e.g. -DARBOR_FLATTEN=) turns this off:
+/// the same arithmetic, less compiler time and memory, the compiler's own inlining decisions
+/// (the hosted unit tests do this; benchmarks and firmware keep it).
 #if defined(__GNUC__) || defined(__clang__)
 #define ARBOR_INLINE inline __attribute__((always_inline))
+#ifndef ARBOR_FLATTEN
 #define ARBOR_FLATTEN __attribute__((flatten))
+#endif
 #else
 #define ARBOR_INLINE inline
+#ifndef ARBOR_FLATTEN
 #define ARBOR_FLATTEN
+#endif
 #endif
 
 // ---------------------------------------------------------------------------------------------
