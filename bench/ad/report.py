@@ -42,7 +42,7 @@ def main():
     lines.append("# AD layer: the paper's Table 1, Fig. 1 and Table 2, reproduced\n")
     lines.append("Regenerate with `bash bench/ad/report.sh` (this file and `fig1.png`). Counts are "
                  "atomic operations of `arbor::ad::Counted` (folding rules in "
-                 "`include/arbor/ad/op_count.hpp`): exact and repeatable. Times are medians of 5 "
+                 "`tests/support/op_count.hpp`): exact and repeatable. Times are medians of 5 "
                  "repetitions of Google Benchmark CPU time on a shared machine: compare ratios "
                  "within one run, not absolute values across machines.\n")
     lines.append("J^a: analytical derivative routines (`aba_derivatives`, `rnea_derivatives`). "
