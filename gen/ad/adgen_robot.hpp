@@ -172,26 +172,28 @@ int generate(int argc, char** argv, const std::string& robot, const std::string&
   };
   std::vector<Stats> stats(2);
   std::string code;
-  code += generate_function(
-      "ForwardDynamics<" + robot + ">", 3 * nv, nv, h,
-      [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
-        VecN<Sym, nv> q, v, tau;
-        split(x, q, v, tau);
-        auto d = std::make_unique<Data<R, Sym>>();
-        const auto& r = aba<R>(*d, q, v, tau);
-        for (int i = 0; i < nv; ++i)
-          y[i] = r[i];
+  // FD (q, v, tau) -> qdd and ID (q, v, a) -> tau: the same shape, x = (q, v, u).
+  auto dynamics = [&](const char* name, auto algorithm, Stats& st) {
+    code += generate_function(
+        std::string(name) + "<" + robot + ">", 3 * nv, nv, h,
+        [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
+          VecN<Sym, nv> q, v, u;
+          split(x, q, v, u);
+          auto d = std::make_unique<Data<R, Sym>>();
+          const auto& r = algorithm(*d, q, v, u);
+          for (int i = 0; i < nv; ++i)
+            y[i] = r[i];
+        },
+        st);
+  };
+  dynamics(
+      "ForwardDynamics", [](auto& d, const auto& q, const auto& v, const auto& u) -> const auto& {
+        return aba<R>(d, q, v, u);
       },
       stats[0]);
-  code += generate_function(
-      "InverseDynamics<" + robot + ">", 3 * nv, nv, h,
-      [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
-        VecN<Sym, nv> q, v, a;
-        split(x, q, v, a);
-        auto d = std::make_unique<Data<R, Sym>>();
-        const auto& r = rnea<R>(*d, q, v, a);
-        for (int i = 0; i < nv; ++i)
-          y[i] = r[i];
+  dynamics(
+      "InverseDynamics", [](auto& d, const auto& q, const auto& v, const auto& u) -> const auto& {
+        return rnea<R>(d, q, v, u);
       },
       stats[1]);
   [&]<int... F>(std::integer_sequence<int, F...>) {
