@@ -418,12 +418,13 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
   bool rank_one(int i, int k, bool active, Scalar w, const VecA& wa) {
     const Scalar sigma = active ? Scalar(1) : Scalar(-1);
     const Scalar tol = std::sqrt(std::numeric_limits<Scalar>::epsilon());
-    VecX vx;  // the x part carried to the stage before
+    // The x part carried to the stage before. Zeroed although for k < N it is only read after
+    // the first stage sets it: GCC -O3 (arm-none-eabi) cannot see that (-Wmaybe-uninitialized).
+    VecX vx = VecX::Zero();
     VecW v;
     int s = k;
     if (k == N) {
       if (i < NV) {
-        vx.setZero();
         vx(i - N * NW) = std::sqrt(w);
       } else {
         const int j = i - NV - N * NR;
