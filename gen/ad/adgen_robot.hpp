@@ -64,17 +64,24 @@ std::string generate_function(const std::string& function, int nin, int nout,
   std::string code;
   std::string body;
   std::string hbody;
-  // Jacobian.
-  {
-    Graph g;
+  // Records the function into a fresh graph g: ins are its input nodes, y its outputs.
+  auto record = [&](Graph& g, std::vector<int>& ins, std::vector<Sym>& y) {
     current = &g;
-    std::vector<Sym> x(nin), y(nout);
-    std::vector<int> ins(nin);
+    std::vector<Sym> x(nin);
+    ins.assign(nin, 0);
+    y.assign(nout, Sym());
     for (int k = 0; k < nin; ++k) {
       ins[k] = g.input(k, 0.3 + 0.37 * k - 0.05 * (k % 5) * k);
       x[k] = Sym::node(ins[k]);
     }
     trace(x, y);
+  };
+  // Jacobian.
+  {
+    Graph g;
+    std::vector<int> ins;
+    std::vector<Sym> y;
+    record(g, ins, y);
     if (g.value_branch) {
       std::fprintf(stderr, "arbor-adgen: %s branches on a traced value\n", function.c_str());
       std::exit(1);
@@ -88,14 +95,9 @@ std::string generate_function(const std::string& function, int nin, int nout,
   }
   if (hessian) {
     Graph g;
-    current = &g;
-    std::vector<Sym> x(nin), y(nout);
-    std::vector<int> ins(nin);
-    for (int k = 0; k < nin; ++k) {
-      ins[k] = g.input(k, 0.3 + 0.37 * k - 0.05 * (k % 5) * k);
-      x[k] = Sym::node(ins[k]);
-    }
-    trace(x, y);
+    std::vector<int> ins;
+    std::vector<Sym> y;
+    record(g, ins, y);
     Sym s(0.0);
     for (int i = 0; i < nout; ++i)
       s += Sym::node(g.input(nin + i, 0.1 + 0.3 * i)) * y[i];
