@@ -47,6 +47,9 @@ struct Options {
   /// (make_problem's `scaled`). The QP measures a row's violation as a distance, invariant to
   /// this scaling; the paper's SQP mode uses it (see README.md).
   bool scaled_tunnel = false;
+  /// shift() moves the multipliers with the plan (NmpcSettings::shift_multipliers; off: the
+  /// library's default, the QP starts from the last solution's working set stage by stage)
+  bool shift_multipliers = false;
 };
 
 /// QP primal tolerance of float controllers in real-time iteration. The float QP's default, 1e-4,
@@ -125,6 +128,7 @@ class ContourLoop {
     if (st != arbor::nmpc::NmpcStatus::prepared)
       return st;
     auto& set = ctrl_.settings();
+    set.shift_multipliers = options_.shift_multipliers;
     if (options_.qp_max_iter > 0)
       set.qp.max_iter = options_.qp_max_iter;
     const auto keep = set;  // the first solve runs with the library's defaults

@@ -60,6 +60,8 @@ void usage(const char* argv0) {
       "                    the linearisation error of real-time iteration)\n"
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
       "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
+      "  --shift-multipliers  shift() moves the multipliers with the plan (the QP's warm start\n"
+      "                    one stage earlier; default: kept in place, see README)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard");
@@ -156,6 +158,8 @@ int main(int argc, char** argv) {
       o.qp_tol = std::atof(value("a number"));
     } else if (a == "--qp-iter") {
       o.qp_max_iter = std::atoi(value("a number"));
+    } else if (a == "--shift-multipliers") {
+      o.shift_multipliers = true;
     } else if (a == "--progress") {
       progress = std::atoi(value("a number"));
     } else {

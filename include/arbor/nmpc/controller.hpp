@@ -14,7 +14,9 @@
 //     steps near a solution survive the Maratos effect; full steps in real-time iteration;
 //   - real-time iteration: prepare() linearises around the current (shifted) plan before the
 //     state is measured; feedback(x0) embeds x0 (dx_0 = x0 - x_0), solves one QP, takes the full
-//     step and returns; control() is then u_0. shift() moves plan and multipliers one stage.
+//     step and returns; control() is then u_0. shift() moves the plan one stage (and the
+//     multipliers too when settings().shift_multipliers is set; by default they stay in place,
+//     the previous solution's working set stage by stage: see settings.hpp).
 //
 //   using Ctrl = nmpc::Nmpc<decltype(problem), double>;
 //   static Ctrl ctrl(problem);              // big: static storage (sizeof in bench/nmpc)
@@ -267,8 +269,11 @@ class Nmpc {
     return take_step(Scalar(1));
   }
 
-  /// Moves plan and multipliers one stage earlier for the next sample: stage k takes stage k+1's
-  /// values; the last input repeats and x_N becomes F(x_N, u_{N-1}, p_N) (kept if not finite).
+  /// Moves the plan one stage earlier for the next sample: stage k takes stage k+1's values; the
+  /// last input repeats and x_N becomes F(x_N, u_{N-1}, p_N) (kept if not finite). The
+  /// multipliers move with it when settings().shift_multipliers is set, else they stay where
+  /// they are (the next QP's warm start is then the last solution's working set, stage by
+  /// stage; see settings.hpp for why that is the default).
   void shift() {
     for (int k = 0; k < N; ++k)
       x_[std::size_t(k)] = x_[std::size_t(k + 1)];
@@ -278,8 +283,10 @@ class Nmpc {
     const Vx xn = ad::evaluate(problem_.dynamics, x_[N], u, p_[N]);
     if (xn.allFinite())
       x_[N] = xn;
-    QpSolver::shift_variables(lam_x_);
-    QpSolver::shift_rows(lam_a_);
+    if (settings_.shift_multipliers) {
+      QpSolver::shift_variables(lam_x_);
+      QpSolver::shift_rows(lam_a_);
+    }
     prepared_ = false;
   }
 
