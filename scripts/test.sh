@@ -3,7 +3,8 @@
 # targets (Cortex-M7 and Cortex-M4F bare metal in qemu-system-arm, AArch64 Linux in qemu-aarch64).
 # Build folders: build/ and build-<target>/ (override the root with BUILD_DIR). Exit status is
 # non-zero when anything fails. ARBOR_TARGETS="" skips the targets. The wall time of each stage
-# and the total are printed at the end, also after a failure.
+# and the total are printed at the end, also after a failure. After the host build, the host tests
+# and the targets run concurrently (below), so their stage times overlap.
 #
 # A failing set-up or host build stops the run (the targets need the host's generator and
 # results); failing host tests or a failing target do not stop the remaining targets.
@@ -66,18 +67,98 @@ stage "set-up (apt)" bash "$root/scripts/setup.sh" || exit 1
 echo "== host"
 stage "host: configure + build" configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release \
   -DARBOR_BUILD_TESTS=ON || exit 1
-stage "host: tests" run_tests "$build"
+# After the host build, the host tests and each target's chain (configure + build, then tests)
+# run as concurrent jobs: one build alone leaves a core idle in its serial tail (the last large
+# translation unit, linking, the emulator runs) and the host's longest test (IPOPT) runs alone
+# for about a minute; together they keep both cores busy (each job's build uses -j2, so up to six
+# compilers share the cores for a while: peak memory ~8 GB). Each job writes its output to a log,
+# printed when the job ends; a status line every minute says what is still running.
+mkdir -p "$build"
+records="$build/suite-stages.txt"
+: >"$records"
 
-for t in $targets; do
-  echo "== $t (emulated)"
-  tb="$build-$t"
+job_stage() {  # name command... : stage() for a job (a subshell): the record goes to a file
+  local name="$1" t0=$SECONDS rc
+  shift
+  "$@"
+  rc=$?
+  printf '%s\t%s\t%s\n' "$name" $((SECONDS - t0)) \
+    "$([ "$rc" = 0 ] && echo ok || echo "FAILED (exit $rc)")" >>"$records"
+  return "$rc"
+}
+
+target_chain() {  # target
+  local t="$1" tb="$build-$1"
   # Targets run the portable suites (harness, heap and fault traps, model contract, the RBD core
   # against the reference values and against the host's own results); the host runs everything.
-  stage "$t: configure + build" configure_and_build "$tb" \
+  job_stage "$t: configure + build" configure_and_build "$tb" \
     --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$build/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$build" \
     -DARBOR_PORTABLE_TESTS_ONLY=ON &&
-    stage "$t: tests" run_tests "$tb"
+    job_stage "$t: tests" run_tests "$tb"
+}
+
+job_names=()
+job_pids=()
+job_logs=()
+jobs_start=$SECONDS
+start_job() {  # name log command...
+  local name="$1" log="$2"
+  shift 2
+  ("$@") >"$log" 2>&1 &
+  job_names+=("$name")
+  job_pids+=($!)
+  job_logs+=("$log")
+  echo "== started: $name (output: $log)"
+}
+
+start_job "host tests" "$build/suite-host-tests.log" job_stage "host: tests" run_tests "$build"
+for t in $targets; do
+  start_job "$t (emulated)" "$build/suite-$t.log" target_chain "$t"
 done
+
+pending=("${!job_pids[@]}")
+last_status=$SECONDS
+while [ "${#pending[@]}" -gt 0 ]; do
+  still=()
+  for i in "${pending[@]}"; do
+    if kill -0 "${job_pids[$i]}" 2>/dev/null; then
+      still+=("$i")
+    else
+      wait "${job_pids[$i]}"
+      echo
+      echo "== ${job_names[$i]}: finished after $(((SECONDS - jobs_start) / 60)) min (its output follows)"
+      cat "${job_logs[$i]}"
+    fi
+  done
+  pending=("${still[@]}")
+  if [ "${#pending[@]}" -gt 0 ] && [ $((SECONDS - last_status)) -ge 60 ]; then
+    last_status=$SECONDS
+    names=""
+    for i in "${pending[@]}"; do names+="${names:+, }${job_names[$i]}"; done
+    echo "   ... $(((SECONDS - jobs_start) / 60)) min: still running: $names"
+  fi
+  [ "${#pending[@]}" -gt 0 ] && sleep 5
+done
+
+expected=("host: tests")
+for t in $targets; do expected+=("$t: configure + build" "$t: tests"); done
+for name in "${expected[@]}"; do  # in this order; a stage missing after a failed build is skipped
+  line="$(grep -F "$name"$'\t' "$records" | head -1)"
+  if [ -z "$line" ]; then
+    case "$name" in
+      *": tests") continue ;;  # its build failed (recorded) or the chain died (below)
+    esac
+    line="$name"$'\t0\tFAILED (no record)'
+  fi
+  IFS=$'\t' read -r _ seconds result <<<"$line"
+  stage_names+=("$name")
+  stage_seconds+=("$seconds")
+  stage_results+=("$result")
+  [ "$result" = ok ] || failed=1
+done
+stage_names+=("host tests + targets (concurrent)")
+stage_seconds+=($((SECONDS - jobs_start)))
+stage_results+=("$([ "$failed" = 0 ] && echo ok || echo FAILED)")
 
 exit "$failed"
