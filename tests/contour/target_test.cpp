@@ -195,6 +195,34 @@ TEST(ContourTarget, ClosedLoop50Samples) {
   // progress along the path: s follows sd_ref from rest (sd_ref(0) = 0.0515 c)
   EXPECT_GT(s_prev, 0.01);
 
+  // QP iterations per sample (one warm-started QP each). Measured on the host in double over
+  // these 50 samples (bench/nmpc/rti_qp_diag.cpp): OCP-FD 132 in all, OCP-ID 92, since the
+  // multipliers stay in place across shift() and a warm start steps on its working set before
+  // adding constraints; 597 and 119 before (shifted multipliers: the tunnel's active stages one
+  // stage off every sample). The bound, 4 per sample on average, fails the former OCP-FD loop
+  // and leaves 1.5x margin for another instruction set. Float: not measured, printed only.
+  int qp_total = 0;
+  std::array<double, kSamples> qp_its{};
+  for (int k = 0; k < kSamples; ++k) {
+    qp_its[std::size_t(k)] = g_records[std::size_t(k)].qp_iterations;
+    qp_total += g_records[std::size_t(k)].qp_iterations;
+  }
+  if constexpr (!CONTOUR_TEST_FLOAT) {
+    EXPECT_LE(qp_total, 4 * kSamples);
+  }
+  double qp_med = 0, qp_max = 0;
+  median_max(qp_its, qp_med, qp_max);
+#if defined(ARBOR_BARE_METAL)
+  arbor::minitest::out() << "CONTOUR " << kFormName << " " << kScalarName
+                         << " QP iterations per sample median " << static_cast<long long>(qp_med)
+                         << " max " << static_cast<long long>(qp_max) << " total "
+                         << static_cast<long long>(qp_total) << "\n";
+  arbor::minitest::out().flush();
+#else
+  std::printf("CONTOUR %s %s QP iterations per sample median %.0f max %.0f total %d\n", kFormName,
+              kScalarName, qp_med, qp_max, qp_total);
+#endif
+
   std::array<double, kSamples> prep{}, fb{}, both{};
   for (int k = 0; k < kSamples; ++k) {
     prep[std::size_t(k)] = g_records[std::size_t(k)].prepare_us;

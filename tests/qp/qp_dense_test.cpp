@@ -212,6 +212,51 @@ TEST(QpDense, Unbounded) {
   EXPECT_EQ(c.run(), QpStatus::unbounded);
 }
 
+/// A warm start whose multipliers name the solution's working set, from a point that violates a
+/// constraint inactive at the solution: the first step on the named working set satisfies it, so
+/// the solve makes no working-set change (the rule used to add the violated bound first and drop
+/// it at the next iteration: 2 iterations, 2 changes (checked against the former code); the contour
+/// closed loop's terminal velocity bound did this every sample, bench/nmpc/RESULTS.md). Closed
+/// form: min 1/2 |x - (2, 0)|^2, x <= (1, 1): x = (1, 0), lam_x = (1, 0).
+TEST(QpDense, WarmStartStepsOnItsWorkingSetBeforeAdding) {
+  static Case<2, 1> c;
+  c.p.H.setIdentity();
+  c.p.g << -2, 0;
+  c.p.A << 1, 1;
+  c.p.lbx.setConstant(-kInf);
+  c.p.ubx << 1, 1;
+  c.p.lba << -kInf;
+  c.p.uba << kInf;
+  QpStatus st;
+  {
+    arbor::test::NoAllocScope guard;
+    ASSERT_EQ(c.s.setup(c.p), QpStatus::accepted);
+    c.s.x() << 1, 1.5;  // x_2 = 1.5 violates x_2 <= 1
+    c.s.lam_x() << 1, 0;
+    c.s.lam_a() << 0;
+    st = c.s.solve();
+  }
+  ASSERT_EQ(st, QpStatus::solved);
+  EXPECT_EQ(c.s.info().active_set_changes, 0);
+  EXPECT_LE(c.s.info().iterations, 2);
+  EXPECT_NEAR(c.s.x()[0], 1, 1e-7);  // (the QP's tolerances: 1e-8 relative)
+  EXPECT_NEAR(c.s.x()[1], 0, 1e-7);
+  EXPECT_NEAR(c.s.lam_x()[0], 1, 1e-7);
+  EXPECT_EQ(c.s.lam_x()[1], 0);
+  // from zero multipliers (no working set named: the rule adds constraints from the first
+  // iteration) the same solution, with x_1 <= 1 added on the way
+  {
+    arbor::test::NoAllocScope guard;
+    c.s.x() << 1, 1.5;
+    c.s.lam_x().setZero();
+    st = c.s.solve();
+  }
+  ASSERT_EQ(st, QpStatus::solved);
+  EXPECT_GE(c.s.info().active_set_changes, 1);
+  EXPECT_NEAR(c.s.x()[0], 1, 1e-7);  // (the QP's tolerances: 1e-8 relative)
+  EXPECT_NEAR(c.s.x()[1], 0, 1e-7);
+}
+
 TEST(QpDense, NonFiniteDataAndBadBounds) {
   static Case<2, 1> c;
   auto reset = [] {

@@ -16,6 +16,11 @@
 //   multiplier has the most wrong sign is dropped. Violations and multipliers are compared per
 //   constraint: row i's violation is divided by |a_i|, its multiplier multiplied by |a_i| (the
 //   same quantities for any scaling of the row), against the thresholds of the termination test.
+//   The first iteration of a warm start (the multipliers name at least one inequality) adds
+//   nothing: it steps on the working set they name, and a constraint violated only at the start
+//   point (the NMPC's extrapolated terminal state beyond a velocity bound) is added only if that
+//   step leaves it violated. (Adding it first cost the contour closed loop two iterations per
+//   sample, add and drop: bench/nmpc/RESULTS.md.)
 // - The step goes to the solution of the equality-constrained QP of the working set, with a
 //   proximal regularisation centred at the current iterate (delta = reg_primal on x,
 //   epsilon = reg_dual on the active multipliers):
@@ -257,7 +262,10 @@ class ActiveSetCore {
   int next_drop_ = 0;                              ///< ring position in singular_drops_
   int cycles_ = 0;                                 ///< repeated singular drops refused
   bool refining_ = false;  ///< the previous iteration left the working set unchanged
-  Scalar pr_prev_ = 0;     ///< primal error of the previous iteration
+  /// First iteration of a warm start (the multipliers named an inequality): no constraint is
+  /// added before one step on the working set they name
+  bool warm_first_ = false;
+  Scalar pr_prev_ = 0;  ///< primal error of the previous iteration
 
   VecA za_;          ///< A x
   VecV hx_;          ///< H x
@@ -316,6 +324,9 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   cycles_ = 0;
   refining_ = false;
   pr_prev_ = inf();
+  warm_first_ = false;
+  for (int i = 0; i < nz && !warm_first_; ++i)
+    warm_first_ = one_sided(i);
 }
 
 template <typename Scalar, int NV, int NA>
@@ -462,7 +473,7 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
   if (pending_ >= 0) {
     change = pending_;
     change_ws = pending_ws_;
-  } else if (ipc_ >= 0 && pc_ > s.tol_primal * pr_scale_ &&
+  } else if (ipc_ >= 0 && !warm_first_ && pc_ > s.tol_primal * pr_scale_ &&
              pc_ / (s.tol_primal * pr_scale_) >= sd_ / drop_threshold(s)) {
     change = ipc_;
     change_ws = spc_;
@@ -471,6 +482,7 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
     change_ws = State::inactive;
   }
   pending_ = -1;
+  warm_first_ = false;
   if (change < 0 || ws[change] == change_ws || ws[change] == State::equality)
     return false;
   ws[change] = change_ws;
