@@ -2,6 +2,7 @@
 # Regenerates the AD layer's reports, the paper's Table 1, Fig. 1 and Table 2 reproduced:
 #
 #   bash bench/ad/report.sh [build-dir]        (default build-dir: build-bench)
+#   JOBS=1 bash bench/ad/report.sh ...          (parallel compile jobs, default 2)
 #
 # Installs what is missing (scripts/setup.sh), builds arbor_ad_op_counts and arbor_bench_ad in a
 # Release build with benchmarks, runs them, and writes bench/ad/RESULTS.md (tables) and
@@ -14,7 +15,7 @@ build=${1:-$root/build-bench}
 bash "$root/scripts/setup.sh"
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_BENCH=ON \
   -DARBOR_BUILD_TESTS=OFF -DARBOR_BUILD_EXAMPLES=OFF >/dev/null
-cmake --build "$build" -j2 --target arbor_ad_op_counts arbor_bench_ad
+cmake --build "$build" -j"${JOBS:-2}" --target arbor_ad_op_counts arbor_bench_ad
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$build/bench/ad/arbor_ad_op_counts" >"$tmp/counts.md"
