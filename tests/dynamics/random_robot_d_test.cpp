@@ -1,4 +1,5 @@
-// Random compile-time robots against the textbook implementation and identities (float: file b).
+// Random compile-time robots against the textbook implementation and identities (float: file b;
+// the largest robot of the set, 20 joints in 5 trees).
 #include "random_checks.hpp"
 
 namespace {
