@@ -183,8 +183,9 @@ ARBOR_INLINE void deriv_forward_acceleration(Data<R, Scalar>& d, DerivativeData<
 
 /// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
 /// the rows and columns of the derivative matrices over the subtree of i, and the composite sums
-/// handed to the parent.
-template <class R, int i, bool WithM, class Scalar>
+/// handed to the parent. Fused (aba_derivatives' fused sweep): the composite inertia is already
+/// in data.Ycrb and its column P in deriv.dP (from the pass that formed M), so neither is redone.
+template <class R, int i, bool WithM, class Scalar, bool Fused = false>
 ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
   using B = spatial::BodyOps<R, i, Scalar>;
   constexpr int n = R::nv;
@@ -192,22 +193,26 @@ ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scal
   constexpr int L = last - i + 1;
   const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
   const Motion<Scalar>& dS = dd.dS[i];
-  const Inertia<Scalar>& Y = dd.oYcrb[i];
+  const Inertia<Scalar>& Y = Fused ? d.Ycrb[i] : dd.oYcrb[i];
   const spatial::InertiaRate<Scalar>& Yd = dd.oYdot[i];
   const Force<Scalar>& h = dd.oh[i];
   const Force<Scalar>& F = dd.of[i];
 
   d.tau[i] = spatial::dot(F, Sc);
-  const Force<Scalar> P = Y * Sc;
   const Force<Scalar> YdS = Yd * Sc;
   const Force<Scalar> Sxh = cross_col_force<B>(Sc, h);
   const Force<Scalar> Q = YdS - Sxh;
   const Force<Scalar> G =
       cross_col_force<B>(Sc, F) + Y * dd.ddS[i] + Yd * dS + spatial::cross(dS, h);
   const Force<Scalar> H = Y * dS * Scalar(2) + YdS + Sxh;
+  if constexpr (!Fused) {
+    const Force<Scalar> P = Y * Sc;
+    for (int c = 0; c < 3; ++c) {
+      dd.dP(c, i) = P.f[c];
+      dd.dP(3 + c, i) = P.n[c];
+    }
+  }
   for (int c = 0; c < 3; ++c) {
-    dd.dP(c, i) = P.f[c];
-    dd.dP(3 + c, i) = P.n[c];
     dd.dQ(c, i) = Q.f[c];
     dd.dQ(3 + c, i) = Q.n[c];
     dd.dG(c, i) = G.f[c];
@@ -282,7 +287,8 @@ ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scal
   }
   if constexpr (B::parent >= 0) {
     constexpr int p = B::parent;
-    dd.oYcrb[p] += Y;
+    if constexpr (!Fused)
+      dd.oYcrb[p] += Y;
     dd.oYdot[p] += Yd;
     dd.oh[p] += h;
     dd.of[p] += F;

@@ -101,4 +101,88 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
   return d.Minv;
 }
 
+namespace detail {
+
+/// Depth of body i (0 for a root) and its ancestors, nearest first (compile time).
+template <class R>
+constexpr int tree_depth(int i) {
+  int d = 0;
+  for (int j = R::parent[i]; j >= 0; j = R::parent[j])
+    ++d;
+  return d;
+}
+template <class R>
+constexpr int ancestor(int i, int t) {  // t = 0: the parent
+  int j = R::parent[i];
+  for (; t > 0; --t)
+    j = R::parent[j];
+  return j;
+}
+
+/// M^-1 from a given M (full symmetric) by the tree-structured factorisation M = L' D L
+/// (Featherstone's LTDL: L unit lower triangular, nonzero only at (k, i) with joint i an ancestor
+/// of k, so no fill-in for any tree), then W = L^-1 (same sparsity) column by column, and
+/// M^-1 = W D^-1 W' as rank-1 updates dinv_c w_c w_c' over the subtree block of each joint c.
+/// O(n d^2) for the factor, O(sum of subtree sizes squared) for the rest; no square roots (any
+/// Scalar); needs every subtree's columns contiguous (depth-first numbering). H is scratch.
+/// Used by the derivative sweeps, which form M anyway (aba_derivatives); on its own, minverse's
+/// articulated-body recursion above needs no M.
+template <class R, class Scalar>
+ARBOR_INLINE void minverse_from_mass_matrix(const MatN<Scalar, R::nv>& M, MatN<Scalar, R::nv>& H,
+                                            MatN<Scalar, R::nv>& Minv) {
+  constexpr int n = R::nv;
+  H = M;
+  // Factor, leaves to root: D in the diagonal of H, L below it (ancestors' columns only).
+  static_for_reverse<n>([&](auto K) {
+    constexpr int k = decltype(K)::value;
+    constexpr int dk = tree_depth<R>(k);
+    if constexpr (dk > 0) {
+      const Scalar dk_inv = Scalar(1) / H(k, k);
+      static_for<dk>([&](auto T) {
+        constexpr int i = ancestor<R>(k, decltype(T)::value);
+        constexpr int di = tree_depth<R>(i);
+        const Scalar a = H(k, i) * dk_inv;
+        H(i, i) -= H(k, i) * a;
+        static_for<di>([&](auto U) {
+          constexpr int j = ancestor<R>(i, decltype(U)::value);
+          H(i, j) -= H(k, j) * a;
+        });
+        H(k, i) = a;
+      });
+    }
+  });
+  // W = L^-1 in place of L, column by column from the root (column c needs the columns m > c of
+  // L, not yet overwritten): w = e_c, then for m in the subtree of c in order, the rows of the
+  // strict subtree of m lose L(., m) w_m.
+  static_for<n>([&](auto C) {
+    constexpr int c = decltype(C)::value;
+    constexpr int Lc = model::subtree_last<R>(c) - c;  // strict subtree size
+    if constexpr (Lc > 0) {
+      Eigen::Matrix<Scalar, Lc, 1> w = -H.col(c).template segment<Lc>(c + 1);
+      static_for<Lc>([&](auto M_) {
+        constexpr int m = c + 1 + decltype(M_)::value;
+        constexpr int Lm = model::subtree_last<R>(m) - m;
+        if constexpr (Lm > 0)
+          w.template segment<Lm>(m + 1 - c - 1) -=
+              H.col(m).template segment<Lm>(m + 1) * w[m - c - 1];
+      });
+      H.col(c).template segment<Lc>(c + 1) = w;
+    }
+  });
+  // M^-1 = sum over c of dinv_c w_c w_c', w_c = (1, W(c+1.., c)) over the subtree block of c.
+  Minv.setZero();
+  static_for<n>([&](auto C) {
+    constexpr int c = decltype(C)::value;
+    constexpr int Lc = model::subtree_last<R>(c) - c + 1;
+    const Scalar dinv = Scalar(1) / H(c, c);
+    Eigen::Matrix<Scalar, Lc, 1> w;
+    w[0] = Scalar(1);
+    if constexpr (Lc > 1)
+      w.template tail<Lc - 1>() = H.col(c).template segment<Lc - 1>(c + 1);
+    Minv.template block<Lc, Lc>(c, c).noalias() += (w * dinv) * w.transpose();
+  });
+}
+
+}  // namespace detail
+
 }  // namespace arbor
