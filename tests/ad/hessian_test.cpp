@@ -88,7 +88,11 @@ void jacobian_providers_agree(unsigned seed) {
     ad::bind<F>(*wc).template value_and_jacobian<ad::AutoDiff>(x, yc, Jc);
     ad::bind<F>(*wv).value(x, y);
   }
-  ARBOR_EXPECT_REL(ya, y, 1e-13);
+  // The analytical provider's forward-dynamics value is M^-1 (tau - nle) with M^-1 from the
+  // derivative sweep's own mass matrix (aba_derivatives since 7df6851), not aba's recursion: the
+  // same quantity rounded differently (iiwa7: 2.1e-13 relative), hence 1e-12 here; the duals run
+  // aba itself.
+  ARBOR_EXPECT_REL(ya, y, 1e-12);
   ARBOR_EXPECT_REL(yc, y, 1e-13);
   ARBOR_EXPECT_REL(Ja, Jc, 1e-10);
 }
