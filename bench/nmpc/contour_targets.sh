@@ -2,13 +2,13 @@
 # The contour NMPC (examples/contour, Kinova Gen3, analytical RBD derivatives, hard tunnel,
 # real-time iteration) on the emulated microcontrollers: the 50-sample closed loop of
 # tests/contour/target_test.cpp for OCP-FD and OCP-ID on the host and the Cortex-M7 (double) and for
-# OCP-FD on the host and the Cortex-M4F (float; OCP-ID in float is not measured), each target's
-# trajectory checked against the host's;
+# OCP-FD and OCP-ID on the host and the Cortex-M4F (float), each target's trajectory checked
+# against the host's; QP iterations per sample;
 # instructions per preparation and feedback phase (SysTick under QEMU's -icount shift=0); flash,
 # static RAM and stack of firmware-sized images with only the controller
 # (bench/targets/contour_firmware.cpp). Writes bench/nmpc/RESULTS-targets.md (or $1).
 # Build folders: $BUILD_DIR (host, default build-contour-bench) and <it>-cortex-m7/-cortex-m4f.
-# About 17 minutes of compiler time on 2 cores (ten controller translation units, ~2 GB each).
+# About 20 minutes of compiler time on 2 cores (twelve controller translation units, ~2 GB each).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/bench/nmpc/RESULTS-targets.md}"
@@ -16,7 +16,8 @@ host="${BUILD_DIR:-$root/build-contour-bench}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-tests="contour_target_fd_double_test contour_target_id_double_test contour_target_fd_float_test"
+tests="contour_target_fd_double_test contour_target_id_double_test contour_target_fd_float_test
+  contour_target_id_float_test"
 echo "== host"
 # -O3 like the targets (hosted tests default to -O1 for compile time: ARBOR_TEST_OPTIMIZATION).
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_TESTS=ON \
@@ -37,7 +38,6 @@ for t in cortex-m7 cortex-m4f; do
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$host" \
     -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON >/dev/null
   loop_forms="fd id"  # closed loops run on this target
-  [ "$t" = cortex-m4f ] && loop_forms="fd"
   loops=""
   for form in $loop_forms; do loops="$loops contour_target_${form}_${scalar}_test"; done
   # shellcheck disable=SC2086
@@ -85,6 +85,10 @@ done
   echo "the host's trajectory:"
   echo
   awk '$2 == "CONTOUR" && ($5 == "max-tau/limit" || $5 == "deviation") {print "    " $0}' "$tmp/runs.txt"
+  echo
+  echo "QP iterations per sample (one warm-started QP per real-time iteration):"
+  echo
+  awk '$2 == "CONTOUR" && $5 == "QP" {print "    " $0}' "$tmp/runs.txt"
   echo
   echo "Stack high-water mark of the whole closed-loop test (controller, plant, harness):"
   echo
