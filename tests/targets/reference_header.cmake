@@ -1,9 +1,16 @@
-# cmake -DREF=<reference .txt> -DOUT=<header> -DNAME=<c++ name> -DSAMPLES=<max> -P reference_header.cmake
+# cmake -DREF=<reference .txt> -DOUT=<header> -DNAME=<c++ name> -DSAMPLES=<max>
+#       [-DKEYS=<key,key,...>] -P reference_header.cmake
 # Turns a reference file (tests/data/reference/README.md) into constexpr arrays, so that targets
-# without a file system can check against the same independent values.
+# without a file system can check against the same independent values. KEYS: the sample keys
+# written (default: the dynamics outputs; the derivative tests add drnea_dq, drnea_dv, daba_dq,
+# daba_dv).
 cmake_minimum_required(VERSION 3.25)
 file(STRINGS "${REF}" lines)
-set(keys q v a tau rnea aba crba minv gravity nle)
+if(DEFINED KEYS)
+  string(REPLACE "," ";" keys "${KEYS}")
+else()
+  set(keys q v a tau rnea aba crba minv gravity nle)
+endif()
 set(sample -1)
 foreach(line IN LISTS lines)
   if(line MATCHES "^joints (.*)$")
@@ -13,7 +20,7 @@ foreach(line IN LISTS lines)
     set(nv ${CMAKE_MATCH_1})
   elseif(line MATCHES "^sample ([0-9]+)$")
     set(sample ${CMAKE_MATCH_1})
-  elseif(sample GREATER_EQUAL 0 AND sample LESS SAMPLES AND line MATCHES "^([a-z]+) [0-9]+ [0-9]+ (.*)$")
+  elseif(sample GREATER_EQUAL 0 AND sample LESS SAMPLES AND line MATCHES "^([a-z_]+) [0-9]+ [0-9]+ (.*)$")
     set(key ${CMAKE_MATCH_1})
     if(key IN_LIST keys)
       string(REPLACE " " ", " values "${CMAKE_MATCH_2}")
@@ -31,7 +38,7 @@ string(APPEND text "namespace arbor::test::reference::${NAME} {\n")
 string(APPEND text "inline constexpr int nv = ${nv};\ninline constexpr int samples = ${count};\n")
 string(APPEND text "inline constexpr std::string_view joints[nv] = {${names}};\n")
 foreach(key IN LISTS keys)
-  if(key MATCHES "^(crba|minv)$")
+  if(key MATCHES "^(crba|minv|drnea_dq|drnea_dv|daba_dq|daba_dv)$")
     set(cols "nv * nv")
   else()
     set(cols "nv")
