@@ -16,13 +16,17 @@
 //    Hessians of lambda^T F: one reverse sweep for the gradient (lambda symbolic), then the
 //    Jacobian of that gradient (forward over reverse, or reverse over reverse, the cheaper).
 // 3. Dead-code elimination: only nodes the requested outputs depend on are emitted, as
-//    `const S t<i> = t<j> op t<k>;` in a function template over the scalar S.
+//    `const S t<i> = t<j> op t<k>;` in a function template over the scalar S; a function longer
+//    than chunk_ops_setting operations (default 2000) is split into parts that pass the values
+//    they share through an array on the entry function's stack (emit_function), which keeps
+//    the compiler's time and memory linear in the length.
 //
 // Host code: uses the heap and one global graph pointer (like the URDF generator, it never runs
 // on a target). The emitted code has neither.
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -399,83 +403,209 @@ struct Output {
   std::vector<int> ids;
 };
 
+/// Operations per emitted function: a longer function is split into chunks of this many
+/// operations (see emit_function). GCC's optimiser is superlinear in the length of a
+/// straight-line block (register allocation above all); bounded chunks keep the compile time
+/// linear in the operation count and the compile memory bounded by the chunk.
+inline constexpr int kDefaultChunkOps = 2000;
+/// The chunk length emit_function uses by default (the generator's --chunk-ops=N; 0: never split).
+inline int chunk_ops_setting = kDefaultChunkOps;
+
 /// Emits `template <class S> static void <name>(const S* <in0>, ..., S* <out0>, ...)` computing
 /// the outputs as straight-line code; inputs are the graph's input nodes, input k being element
 /// k of the concatenation of the input arrays (names and sizes given). Returns the number of
 /// operations emitted.
+///
+/// A function of more than chunk_ops operations is emitted as chunks `<name>_part<c>` (each at
+/// most chunk_ops operations, in the graph's topological order, never inlined into each other)
+/// called in sequence by `<name>`, which owns an array `S w[slots]` on its stack: a value used
+/// by a later chunk is stored in a slot of w by the chunk that computes it and read from there;
+/// a slot is reused once the last chunk that reads its value has run (slots = the most values
+/// live across one chunk boundary, not the operation count). No heap, no statics. Outputs are
+/// written by the chunk that computes them.
 inline long emit_function(std::string& out, const Graph& g, const std::string& name,
                           const std::vector<std::pair<std::string, int>>& inputs,
-                          const std::vector<Output>& outputs) {
+                          const std::vector<Output>& outputs, int chunk_ops = chunk_ops_setting) {
   std::vector<int> all;
   for (const auto& o : outputs)
     all.insert(all.end(), o.ids.begin(), o.ids.end());
   const int n = int(g.nodes.size());
   const auto live = live_set(g, all, n);
-  std::vector<int> local(n, -1);
-  std::string body;
   char buf[160];
-  int next = 0;
-  long ops = 0;
-  auto ref = [&](int i) -> std::string {
-    if (g.nodes[i].op == Op::constant) {
-      // shortest text that reads back as the same double
-      char num[64];
-      const auto r = std::to_chars(num, num + sizeof num, g.nodes[i].c);
-      *r.ptr = '\0';
-      std::snprintf(buf, sizeof buf, "S(%s)", num);
-      return buf;
-    }
-    return "t" + std::to_string(local[i]);
+  auto constant = [&](int i) -> std::string {
+    // shortest text that reads back as the same double
+    char num[64];
+    const auto r = std::to_chars(num, num + sizeof num, g.nodes[i].c);
+    *r.ptr = '\0';
+    std::snprintf(buf, sizeof buf, "S(%s)", num);
+    return buf;
   };
-  for (int i = 0; i < n; ++i) {
-    if (!live[i] || g.nodes[i].op == Op::constant)
-      continue;
-    const Node& nd = g.nodes[i];
-    local[i] = next++;
-    std::string rhs;
-    if (nd.op == Op::input) {
-      int k = int(nd.c);
-      for (const auto& [in, size] : inputs) {
-        if (k < size) {
-          rhs = in + "[" + std::to_string(k) + "]";
-          break;
-        }
-        k -= size;
-      }
-    } else {
-      ++ops;
-      const char* bin = nd.op == Op::add   ? " + "
-                        : nd.op == Op::sub ? " - "
-                        : nd.op == Op::mul ? " * "
-                        : nd.op == Op::div ? " / "
-                                           : nullptr;
-      if (bin)
-        rhs = ref(nd.a) + bin + ref(nd.b);
-      else if (nd.op == Op::neg)
-        rhs = "-" + ref(nd.a);
-      else
-        rhs = std::string(nd.op == Op::sqrt  ? "sqrt("
-                          : nd.op == Op::sin ? "sin("
-                                             : "cos(") +
-              ref(nd.a) + ")";
+  auto input = [&](int i) -> std::string {
+    int k = int(g.nodes[i].c);
+    for (const auto& [in, size] : inputs) {
+      if (k < size)
+        return in + "[" + std::to_string(k) + "]";
+      k -= size;
     }
-    body += "    const S t" + std::to_string(local[i]) + " = " + rhs + ";\n";
+    return "";
+  };
+  auto rhs_of = [&](const Node& nd, auto&& ref) -> std::string {
+    const char* bin = nd.op == Op::add   ? " + "
+                      : nd.op == Op::sub ? " - "
+                      : nd.op == Op::mul ? " * "
+                      : nd.op == Op::div ? " / "
+                                         : nullptr;
+    if (bin)
+      return ref(nd.a) + bin + ref(nd.b);
+    if (nd.op == Op::neg)
+      return "-" + ref(nd.a);
+    return std::string(nd.op == Op::sqrt  ? "sqrt("
+                       : nd.op == Op::sin ? "sin("
+                                          : "cos(") +
+           ref(nd.a) + ")";
+  };
+  std::vector<int> ops_order;  // live operations in topological order
+  for (int i = 0; i < n; ++i)
+    if (live[i] && g.nodes[i].op != Op::constant && g.nodes[i].op != Op::input)
+      ops_order.push_back(i);
+  const long ops = long(ops_order.size());
+  const std::string usings =
+      "    using arbor::sin;\n    using arbor::cos;\n    using arbor::sqrt;\n";
+  auto params = [&](bool with_w) {
+    std::string p;
+    bool first = true;
+    for (const auto& [in, size] : inputs) {
+      p += std::string(first ? "" : ", ") + "const S* " + in;
+      first = false;
+    }
+    for (const auto& o : outputs)
+      p += ", S* " + o.name;
+    if (with_w)
+      p += ", S* w";
+    return p;
+  };
+
+  if (chunk_ops <= 0 || ops <= chunk_ops) {
+    // One function: every live node a local.
+    std::vector<int> local(n, -1);
+    int next = 0;
+    auto ref = [&](int i) -> std::string {
+      if (g.nodes[i].op == Op::constant)
+        return constant(i);
+      return "t" + std::to_string(local[i]);
+    };
+    std::string body;
+    for (int i = 0; i < n; ++i) {
+      if (!live[i] || g.nodes[i].op == Op::constant)
+        continue;
+      const Node& nd = g.nodes[i];
+      local[i] = next++;
+      const std::string rhs = nd.op == Op::input ? input(i) : rhs_of(nd, ref);
+      body += "    const S t" + std::to_string(local[i]) + " = " + rhs + ";\n";
+    }
+    for (const auto& o : outputs)
+      for (std::size_t k = 0; k < o.ids.size(); ++k)
+        body += "    " + o.name + "[" + std::to_string(k) + "] = " + ref(o.ids[k]) + ";\n";
+    out += "  template <class S>\n  static void " + name + "(" + params(false) + ") {\n" + usings;
+    for (const auto& in : inputs)
+      out += "    (void)" + in.first + ";\n";
+    out += body + "  }\n";
+    return ops;
   }
-  for (const auto& o : outputs)
-    for (std::size_t k = 0; k < o.ids.size(); ++k)
-      body += "    " + o.name + "[" + std::to_string(k) + "] = " + ref(o.ids[k]) + ";\n";
-  out += "  template <class S>\n  static void " + name + "(";
-  bool first = true;
-  for (const auto& [in, size] : inputs) {
-    out += std::string(first ? "" : ", ") + "const S* " + in;
-    first = false;
+
+  // Chunks.
+  const int nchunks = int((ops + chunk_ops - 1) / chunk_ops);
+  std::vector<int> chunk_of(n, -1), last_use(n, -1), slot(n, -1);
+  for (std::size_t p = 0; p < ops_order.size(); ++p)
+    chunk_of[ops_order[p]] = int(p / std::size_t(chunk_ops));
+  for (int i : ops_order) {
+    const Node& nd = g.nodes[i];
+    for (int a : {nd.a, nd.b})
+      if (a >= 0 && chunk_of[a] >= 0 && chunk_of[a] != chunk_of[i])
+        last_use[a] = std::max(last_use[a], chunk_of[i]);
   }
+  // Slots: allocated in the defining chunk, freed after the last reading chunk.
+  std::vector<std::vector<int>> defined(nchunks), freed(nchunks);
+  for (int i : ops_order)
+    if (last_use[i] >= 0) {
+      defined[chunk_of[i]].push_back(i);
+      freed[last_use[i]].push_back(i);
+    }
+  std::vector<int> free_slots;
+  int nslots = 0;
+  for (int c = 0; c < nchunks; ++c) {
+    for (int i : defined[c]) {
+      if (free_slots.empty()) {
+        slot[i] = nslots++;
+      } else {
+        slot[i] = free_slots.back();
+        free_slots.pop_back();
+      }
+    }
+    for (int i : freed[c])
+      free_slots.push_back(slot[i]);
+  }
+  // Output assignments by defining node.
+  std::unordered_map<int, std::vector<std::string>> writes;
+  std::string tail;  // outputs that are constants or inputs
   for (const auto& o : outputs)
-    out += ", S* " + o.name;
-  out += ") {\n    using arbor::sin;\n    using arbor::cos;\n    using arbor::sqrt;\n";
+    for (std::size_t k = 0; k < o.ids.size(); ++k) {
+      const int id = o.ids[k];
+      const std::string lhs = o.name + "[" + std::to_string(k) + "]";
+      if (chunk_of[id] >= 0)
+        writes[id].push_back(lhs);
+      else
+        tail += "    " + lhs + " = " + (g.nodes[id].op == Op::constant ? constant(id) : input(id)) +
+                ";\n";
+    }
+  std::string parts;
+  int c = 0;
+  for (std::size_t p0 = 0; p0 < ops_order.size(); p0 += std::size_t(chunk_ops), ++c) {
+    const std::size_t p1 = std::min(ops_order.size(), p0 + std::size_t(chunk_ops));
+    auto ref = [&](int i) -> std::string {
+      const Node& nd = g.nodes[i];
+      if (nd.op == Op::constant)
+        return constant(i);
+      if (nd.op == Op::input)
+        return input(i);
+      if (chunk_of[i] == c)
+        return "t" + std::to_string(i);
+      return "w[" + std::to_string(slot[i]) + "]";
+    };
+    std::string body;
+    for (std::size_t p = p0; p < p1; ++p) {
+      const int i = ops_order[p];
+      const std::string t = "t" + std::to_string(i);
+      body += "    const S " + t + " = " + rhs_of(g.nodes[i], ref) + ";\n";
+      if (slot[i] >= 0)
+        body += "    w[" + std::to_string(slot[i]) + "] = " + t + ";\n";
+      auto it = writes.find(i);
+      if (it != writes.end())
+        for (const auto& lhs : it->second)
+          body += "    " + lhs + " = " + t + ";\n";
+    }
+    parts += "  template <class S>\n  [[gnu::noinline]] static void " + name + "_part" +
+             std::to_string(c) + "(" + params(true) + ") {\n" + usings;
+    for (const auto& in : inputs)
+      parts += "    (void)" + in.first + ";\n";
+    for (const auto& o : outputs)
+      parts += "    (void)" + o.name + ";\n";
+    parts += "    (void)w;\n" + body + "  }\n";
+  }
+  std::string args;
   for (const auto& in : inputs)
-    out += "    (void)" + in.first + ";\n";
-  out += body + "  }\n";
+    args += in.first + ", ";
+  for (const auto& o : outputs)
+    args += o.name + ", ";
+  out += parts;
+  out += "  /// " + std::to_string(ops) + " operations in " + std::to_string(nchunks) + " parts; " +
+         std::to_string(nslots) + " values cross a part boundary (slots of w).\n";
+  out += "  template <class S>\n  static void " + name + "(" + params(false) + ") {\n";
+  out += "    S w[" + std::to_string(std::max(nslots, 1)) +
+         "];  // every slot written before it is read\n";
+  for (int k = 0; k < nchunks; ++k)
+    out += "    " + name + "_part" + std::to_string(k) + "(" + args + "w);\n";
+  out += tail + "  }\n";
   return ops;
 }
 

@@ -9,6 +9,8 @@
 #include <arbor/dynamics/rnea.hpp>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -156,8 +158,13 @@ void frame_function(std::string& code, const std::string& robot, std::vector<Sta
 /// The header for robot R (struct name `robot`, fully qualified; header `robot_header`).
 template <class R>
 int generate(int argc, char** argv, const std::string& robot, const std::string& robot_header) {
+  if (argc > 1 && std::strncmp(argv[1], "--chunk-ops=", 12) == 0) {
+    chunk_ops_setting = std::atoi(argv[1] + 12);
+    ++argv;
+    --argc;
+  }
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s <jacobians.hpp> [<hessians.hpp>]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--chunk-ops=N] <jacobians.hpp> [<hessians.hpp>]\n", argv[0]);
     return 2;
   }
   const bool hessians = argc > 2;

@@ -51,8 +51,8 @@ void expect_counts(Run&& run, const ad::Counted* out, int nout, std::uint64_t ex
 //   reverse instead:  y0: cos(x0), cos(x0) + x1 (2); y1: 1/x1, y1*(1/x1), negation (3)
 // Both modes 9; the generator keeps forward on a tie. By kind: add 2, mul 2, div 2, neg 1, sin 1,
 // cos 1. Executing the zero directions, dead code or unfolded products with 1 would add to these.
-TEST(AdGeneratedCount, TinyFunctionExecutesTheHandCountedOperations) {
-  using G = ad::GeneratedCode<ad::test::TinyFunction>;
+template <class G>
+void tiny_function_counts() {
   static_assert(G::available);
   EXPECT_EQ(G::primal_ops, 4);
   EXPECT_EQ(G::jacobian_ops, 9);
@@ -81,6 +81,16 @@ TEST(AdGeneratedCount, TinyFunctionExecutesTheHandCountedOperations) {
                               1.0 / xv[1]};
   for (int i = 0; i < 8; ++i)
     EXPECT_NEAR(out[i].value(), expected[i], 1e-15) << "entry " << i;
+}
+
+TEST(AdGeneratedCount, TinyFunctionExecutesTheHandCountedOperations) {
+  tiny_function_counts<ad::GeneratedCode<ad::test::TinyFunction>>();
+}
+
+// The same code split into parts of 2 operations (5 parts, values passed through the entry
+// function's array): the same 9 operations, nothing added by the split, the same values.
+TEST(AdGeneratedCount, ChunkedTinyFunctionExecutesTheSameOperations) {
+  tiny_function_counts<ad::GeneratedCode<ad::test::TinyFunctionChunked>>();
 }
 
 template <class F>

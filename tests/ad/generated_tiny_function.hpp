@@ -19,4 +19,8 @@ struct TinyFunction {
   }
 };
 
+/// The same function, its generated Jacobian emitted in parts of at most 2 operations (the
+/// generator's chunking, gen/ad/adgen.hpp emit_function): the same operations, the same values.
+struct TinyFunctionChunked : TinyFunction {};
+
 }  // namespace arbor::ad::test
