@@ -38,8 +38,9 @@ struct Options {
   double noise = 0;        ///< std. dev. of the measurement noise on q [rad] (qd: 10x)
   std::uint32_t seed = 1;  ///< noise seed
   double soft_weight = 100;  ///< slack weight of the soft tunnel (soft builds)
-  double backoff = 1e-4;     ///< the controller's tunnel is rho - backoff [m]
-  int qp_max_iter = 0;       ///< QP active-set iterations per QP (0: the library's default)
+  /// the controller's tunnel is rho - backoff [m]; < 0: the scalar's default (default_backoff)
+  double backoff = -1;
+  int qp_max_iter = 0;  ///< QP active-set iterations per QP (0: the library's default)
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
@@ -54,9 +55,17 @@ struct Options {
 
 /// QP primal tolerance of float controllers in real-time iteration. The float QP's default, 1e-4,
 /// is a distance relative to 1 + max(1, |x|_inf, ...) over the QP's variables, torques of ~10 N m
-/// among them: the tunnel row may end ~1.5 mm outside (the plant reached 11.4 mm); 1e-6 holds
-/// rho (README.md, "Float").
-constexpr double float_qp_tol_primal = 1e-6;
+/// among them: the tunnel row may end ~0.1-1.5 mm outside. Tighter tolerances cost QP iterations
+/// and, in OCP-ID, make the float QP stall (1e-6: 24 of 320 samples): 3e-5 with a larger back-off
+/// (default_backoff) holds rho in both formulations with 2 QP iterations per sample (README.md,
+/// "Float").
+constexpr double float_qp_tol_primal = 3e-5;
+
+/// The controller's default tunnel back-off [m] (Options::backoff < 0): the margin for the
+/// linearisation error of real-time iteration (double, 1e-4: the plant reached 10.002 mm without
+/// it) and, in float, for the QP's looser primal tolerance (3e-4; README.md, "Float").
+template <class Scalar>
+constexpr double default_backoff = std::is_same_v<Scalar, float> ? 3e-4 : 1e-4;
 
 /// The default timer of ContourLoop: the host's steady clock, in microseconds. A timer is a type
 /// with `Stamp now()` and `double elapsed(Stamp from, Stamp to)`.
@@ -100,12 +109,17 @@ class ContourLoop {
   explicit ContourLoop(const Options& o)
       : options_(o),
         ref_(make_reference(o.c)),
-        problem_(
-            make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - o.backoff, o.scaled_tunnel)),
+        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - backoff(o),
+                                            o.scaled_tunnel)),
         ctrl_(problem_),
         rng_(o.seed) {}
   ContourLoop(const ContourLoop&) = delete;
   ContourLoop& operator=(const ContourLoop&) = delete;
+
+  /// The back-off the controller runs with: o.backoff, or the scalar's default if it is < 0.
+  static double backoff(const Options& o) {
+    return o.backoff < 0 ? default_backoff<Scalar> : o.backoff;
+  }
 
   /// Plant at x0; the first OCP solved to convergence from a gravity-compensating guess.
   arbor::nmpc::NmpcStatus start() {

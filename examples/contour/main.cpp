@@ -1,8 +1,10 @@
 // Contour-following NMPC of the Kinova Gen3 in closed loop (the paper's section 5.2; the task is
 // ../../shared/CONTOUR.md, summarised in README.md here). One executable per compile-time
-// configuration (CMake targets contour, contour_fd_ad, contour_id, contour_id_ad, contour_fd_soft):
+// configuration (CMake targets contour, contour_fd_ad, contour_fd_gen, contour_id, contour_id_ad,
+// contour_id_gen, contour_fd_soft):
 //   CONTOUR_ID        0: OCP-FD (u = [tau, sdd]), 1: OCP-ID (u = [qdd, sdd])
-//   CONTOUR_AUTODIFF  0: analytical RBD derivatives, 1: AD through the RBD templates
+//   CONTOUR_AUTODIFF  0: analytical RBD derivatives, 1: AD through the RBD templates (dual
+//                     numbers), 2: code-generated AD (gen/ad; the pose node by dual numbers)
 //   CONTOUR_SOFT      0: hard tunnel, 1: soft tunnel (exact-penalty slack)
 // Prints progress, a summary table, and writes a CSV log (plot it with plot.py). `--help`.
 #include <algorithm>
@@ -13,6 +15,9 @@
 #include <string>
 #include <vector>
 
+#if CONTOUR_AUTODIFF == 2
+#include <robots/kinova_gen3_ad.hpp>  // before closed_loop.hpp (task.hpp): GeneratedCode
+#endif
 #include "closed_loop.hpp"
 
 #ifndef CONTOUR_ID
@@ -29,17 +34,21 @@ namespace {
 
 using namespace contour;
 constexpr Formulation kForm = CONTOUR_ID ? Formulation::id : Formulation::fd;
-using Tag = std::conditional_t<CONTOUR_AUTODIFF != 0, arbor::ad::AutoDiff, arbor::ad::Analytical>;
+using Tag = std::conditional_t<
+    CONTOUR_AUTODIFF == 2, arbor::ad::Generated,
+    std::conditional_t<CONTOUR_AUTODIFF == 1, arbor::ad::AutoDiff, arbor::ad::Analytical>>;
 constexpr bool kSoft = CONTOUR_SOFT != 0;
-constexpr const char* kTagName = CONTOUR_AUTODIFF ? "AutoDiff" : "Analytical";
+constexpr const char* kTagName = CONTOUR_AUTODIFF == 2   ? "Generated"
+                                 : CONTOUR_AUTODIFF == 1 ? "AutoDiff"
+                                                         : "Analytical";
 using Loop = ContourLoop<kForm, Tag, kSoft, double>;
 
 void usage(const char* argv0) {
   std::printf(
       "usage: %s [options]\n"
       "Closed-loop contour following on the Kinova Gen3: %s, %s RBD derivatives, %s tunnel\n"
-      "(compile-time choices; other executables: contour, contour_fd_ad, contour_id,\n"
-      "contour_id_ad, contour_fd_soft).\n"
+      "(compile-time choices; other executables: contour, contour_fd_ad, contour_fd_gen,\n"
+      "contour_id, contour_id_ad, contour_id_gen, contour_fd_soft).\n"
       "  --csv FILE        write the per-sample log (default contour.csv; '-' for none)\n"
       "  --c C             progress-speed scale of sd_ref (default 0.2; the task code: 0.025, "
       "0.2)\n"
@@ -176,7 +185,7 @@ int main(int argc, char** argv) {
       o.sqp ? "SQP mode" : "real-time iteration");
   std::printf(
       "sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, back-off %g mm, plant: %s%s\n",
-      sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * o.backoff,
+      sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * Loop::backoff(o),
       o.mismatch ? "+0.5 kg payload" : "nominal model", o.noise > 0 ? ", measurement noise" : "");
   const auto st0 = loop.start();
   std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),

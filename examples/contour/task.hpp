@@ -8,8 +8,11 @@
 //   OCP-ID: u = [qdd (7), sdd]   x+ = exact double integrator; tau = ID(q, qd, qdd) within limits
 //
 // Everything here is generic over the RBD derivative provider Tag (ad::Analytical or
-// ad::AutoDiff, for every RBD call node of the OCP) and over the controller's scalar. The RBD
-// calls run on a caller-owned workspace (Workspace<Tag, T>, static storage).
+// ad::AutoDiff, for every RBD call node of the OCP; or ad::Generated, gen/ad's code-generated AD,
+// for FD, ID and the tunnel's position, with AutoDiff for the pose, which has no generated code:
+// NodeTag) and over the controller's scalar. The RBD calls run on a caller-owned workspace
+// (Workspace<Tag, T>, static storage). Generated needs <robots/kinova_gen3_ad.hpp> (CMake target
+// arbor_robot_kinova_gen3_ad) included before this header.
 //
 // What the library lacks and this file adds (candidates for include/arbor/ad):
 //   FramePose<R, F>   q -> [p (3), columns of R (9)] of an operational frame, one forward-
@@ -219,15 +222,22 @@ using Id = ad::InverseDynamics<Robot>;
 using Pose = FramePose<Robot, ee_frame>;
 using Position = PosePosition<Robot, ee_frame>;
 
+/// The provider of RBD call node F under the example's provider Tag: Tag itself, except that
+/// under ad::Generated the pose (position and rotation columns; gen/ad generates FD, ID and frame
+/// positions only) is differentiated by AutoDiff, AD like the rest of that variant.
+template <class Tag, class F>
+using NodeTag = std::conditional_t<std::is_same_v<Tag, ad::Generated> && std::is_same_v<F, Pose>,
+                                   ad::AutoDiff, Tag>;
+
 /// The workspace of every RBD call of both formulations at controller scalar T with provider
 /// Tag: values at T (merit, shift) and Jacobians at T (the controller linearises at
 /// Dual<T, nx + nu>; a call node runs the provider at T, AutoDiff at Dual<T, nin>); and the
 /// pose's position Jacobian for the tunnel (PoseCache).
 template <class Tag, class T>
-struct Workspace
-    : ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWorkspace<Fd, Tag, T>,
-                          ad::JacobianWorkspace<Id, Tag, T>, ad::JacobianWorkspace<Pose, Tag, T>,
-                          ad::JacobianWorkspace<Position, Tag, T>> {
+struct Workspace : ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWorkspace<Fd, Tag, T>,
+                                       ad::JacobianWorkspace<Id, Tag, T>,
+                                       ad::JacobianWorkspace<Pose, NodeTag<Tag, Pose>, T>,
+                                       ad::JacobianWorkspace<Position, Tag, T>> {
   PoseCache<T> pose_cache;
 };
 
@@ -321,7 +331,7 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, doubl
   const auto a = ad::segment<0, nq>(D::u);  // tau (FD) or qdd (ID)
   const auto sdd = ad::element<7>(D::u);
 
-  const auto pose = ad::call<Tag>(ad::bind<Pose>(ws), q);
+  const auto pose = ad::call<NodeTag<Tag, Pose>>(ad::bind<Pose>(ws), q);
   const auto track = ad::fn<9>(TrackResidual{ref}, pose, ad::segment<14, 2>(D::x));
   const auto path_cost = ocp::least_squares(ad::cat(track, D::u, q, qd), path_weights<F>());
   const auto terminal_cost = ocp::least_squares(ad::cat(track, q, qd), terminal_weights());
@@ -389,3 +399,10 @@ inline Reference make_reference(double c) {
 }
 
 }  // namespace contour
+
+/// PosePosition is ad::FramePosition with a cache for its analytical Jacobian: under
+/// ad::Generated it runs FramePosition's generated code (available once the robot's generated
+/// header is included).
+template <arbor::Robot R, int F>
+struct arbor::ad::GeneratedCode<contour::PosePosition<R, F>>
+    : arbor::ad::GeneratedCode<arbor::ad::FramePosition<R, F>> {};
