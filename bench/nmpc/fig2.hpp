@@ -1,7 +1,7 @@
 // The paper's Fig. 2 (bench/nmpc/fig2.sh): what one closed-loop run of one contour-NMPC variant
-// (OCP-FD or OCP-ID, analytical or AD RBD derivatives, paper's SQP mode or real-time iteration)
-// measures per sample, and the four runner functions (one translation unit each, fig2_variant.cpp,
-// for compile memory) that fig2_main.cpp calls.
+// (OCP-FD or OCP-ID; analytical, dual-number AD or code-generated AD RBD derivatives; paper's SQP
+// mode or real-time iteration) measures per sample, and the six runner functions (one translation
+// unit each, fig2_variant.cpp, for compile memory) that fig2_main.cpp calls.
 #pragma once
 
 #include <cstddef>
@@ -60,6 +60,8 @@ void run_fd_analytical(const RunOptions& o, Run& r);
 void run_fd_autodiff(const RunOptions& o, Run& r);
 void run_id_analytical(const RunOptions& o, Run& r);
 void run_id_autodiff(const RunOptions& o, Run& r);
+void run_fd_generated(const RunOptions& o, Run& r);
+void run_id_generated(const RunOptions& o, Run& r);
 
 const char* status_name(int nmpc_status);
 const char* qp_status_name(int qp_status);

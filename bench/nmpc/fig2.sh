@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The paper's Fig. 2 reproduced: solve time per sample of the Kinova Gen3 contour NMPC
-# (examples/contour; OCP-FD and OCP-ID, analytical vs AD RBD derivatives) along its closed loop,
+# (examples/contour; OCP-FD and OCP-ID, analytical vs AD RBD derivatives, AD as dual numbers and
+# as code-generated straight-line code) along its closed loop,
 # in the paper's mode (full SQP, at most 5 iterations per sample, CONTOUR.md's tolerances) and in
 # real-time iteration; instructions per sample by callgrind. Writes bench/nmpc/FIG2.md and
 # bench/nmpc/fig2.png.
@@ -13,7 +14,7 @@
 # default 1: each variant's translation unit takes ~2 GB of compiler memory). Intermediate files
 # (per-sample CSV, callgrind outputs) stay in <build-dir>/fig2/.
 # Needs: a C++20 compiler, CMake, Eigen, Google Benchmark, urdfdom (arbor-gen), valgrind,
-# python3-matplotlib. Takes ~10 min to build (8 translation units of ~75 s) and ~10 min to run.
+# python3-matplotlib. Takes ~15 min to build (12 translation units of ~75 s) and ~15 min to run.
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -34,7 +35,7 @@ work=$build/fig2
 mkdir -p "$work"
 
 if [[ ${TIMING:-1} != 0 ]]; then
-  echo "== closed loops: 4 variants x 3 modes, $samples samples each"
+  echo "== closed loops: 6 variants x 3 modes, $samples samples each"
   "$build/bench/nmpc/arbor_bench_fig2" --samples "$samples" --csv "$work/fig2.csv" \
     --md "$work/tables.md"
 else
@@ -45,7 +46,7 @@ fi
 if [[ ${CG:-1} != 0 ]]; then
   echo "== callgrind: samples $cg_from..$((cg_from + cg_count - 1)) of each variant and mode"
   exe="$build/bench/nmpc/arbor_bench_fig2_cg"
-  for v in fd_analytical fd_autodiff id_analytical id_autodiff; do
+  for v in fd_analytical fd_autodiff fd_generated id_analytical id_autodiff id_generated; do
     for m in sqp sqp_c rti; do
       f="$work/cg.$v.$m"
       valgrind --tool=callgrind --instr-atstart=no --collect-atstart=no \

@@ -1,15 +1,16 @@
 // The paper's Fig. 2 reproduced (driver of bench/nmpc/fig2.sh): solve time per sample of the
 // Kinova Gen3 contour NMPC (examples/contour; OCP-FD and OCP-ID, analytical vs AD RBD
-// derivatives) along its closed loop, in the paper's mode (full SQP, at most 5 iterations per
-// sample, the tolerances of CONTOUR.md) and in real-time iteration. Each variant runs the closed
-// loop itself from the same start for the same number of samples (fig2_variant.cpp). Writes a
-// per-sample CSV (for fig2.py) and the Markdown tables of FIG2.md: time per sample
-// (median/p95/max), AD/analytical ratios next to the paper's, time split by phase, failures.
+// derivatives, AD both as dual numbers and as code-generated straight-line code) along its closed
+// loop, in the paper's mode (full SQP, at most 5 iterations per sample, the tolerances of
+// CONTOUR.md) and in real-time iteration. Each variant runs the closed loop itself from the same
+// start for the same number of samples (fig2_variant.cpp). Writes a per-sample CSV (for fig2.py)
+// and the Markdown tables of FIG2.md: time per sample (median/p95/max), AD/analytical ratios (both
+// AD providers) next to the paper's, time split by phase, failures.
 //
 //   arbor_bench_fig2 [--samples N] [--sqp-iter K] [--csv FILE] [--md FILE] [--check]
 //                    [--only VARIANT:MODE] [--qp-tol-primal|--qp-tol-dual|--qp-tol-comp|
 //                    --qp-reg-dual X] [--qp-max-iter N]      (diagnostics of the QP settings)
-//   arbor_bench_fig2 --cg <fd_analytical|fd_autodiff|id_analytical|id_autodiff> <sqp|sqp_c|rti>
+//   arbor_bench_fig2 --cg <fd|id>_<analytical|autodiff|generated> <sqp|sqp_c|rti>
 //                    FROM COUNT          (under callgrind: see fig2.sh)
 #include <algorithm>
 #include <cmath>
@@ -42,7 +43,7 @@ using Runner = void (*)(const RunOptions&, Run&);
 struct Variant {
   const char* key;
   const char* formulation;  // OCP-FD, OCP-ID
-  const char* provider;     // analytical, AD
+  const char* provider;     // analytical, AD (dual numbers), generated AD
   Runner fn;
 };
 constexpr Variant kVariants[] = {
@@ -50,6 +51,8 @@ constexpr Variant kVariants[] = {
     {"fd_autodiff", "OCP-FD", "AD", fig2::run_fd_autodiff},
     {"id_analytical", "OCP-ID", "analytical", fig2::run_id_analytical},
     {"id_autodiff", "OCP-ID", "AD", fig2::run_id_autodiff},
+    {"fd_generated", "OCP-FD", "generated AD", fig2::run_fd_generated},
+    {"id_generated", "OCP-ID", "generated AD", fig2::run_id_generated},
 };
 
 /// Quantile q of v (nearest rank).
@@ -128,7 +131,6 @@ const Result* find(const std::vector<Result>& rs, const char* formulation, const
 }
 
 void write_md(FILE* f, const std::vector<Result>& results, const RunOptions& o) {
-  const char* modes[2] = {"paper's mode (SQP, at most 5 iterations)", "real-time iteration"};
   std::fprintf(f, "## Time per sample (controller calls only) [us]\n\n");
   std::fprintf(f,
                "| mode | variant | samples | median | p95 | max | mean | SQP iterations per "
@@ -151,32 +153,34 @@ void write_md(FILE* f, const std::vector<Result>& results, const RunOptions& o) 
 
   std::fprintf(f, "\n## AD / analytical, same run\n\n");
   std::fprintf(f,
-               "Ratio of the AD variant's time per sample to the analytical one's (> 1: analytical "
-               "faster), next to the paper's speed-ups (SQP mode, CasADi with code-generated "
-               "AD).\n\n");
+               "Ratio of each AD variant's time per sample to the analytical one's (> 1: "
+               "analytical faster), next to the paper's speed-ups (SQP mode, CasADi with "
+               "code-generated AD). *AD*: dual numbers through the RBD templates; *generated "
+               "AD*: gen/ad's code-generated straight-line Jacobians (the paper's method).\n\n");
   std::fprintf(
       f,
-      "| mode | formulation | median ratio | mean ratio | p95 ratio | paper | linearisation "
-      "only (median per linearisation) |\n");
-  std::fprintf(f, "|---|---|---:|---:|---:|---:|---:|\n");
+      "| mode | formulation | AD provider | median ratio | mean ratio | p95 ratio | paper | "
+      "linearisation only (median per linearisation) |\n");
+  std::fprintf(f, "|---|---|---|---:|---:|---:|---:|---:|\n");
   for (int m = 0; m < kNumModes; ++m)
-    for (const char* form : {"OCP-FD", "OCP-ID"}) {
-      const Result* a = find(results, form, "analytical", m);
-      const Result* d = find(results, form, "AD", m);
-      if (!a || !d)
-        continue;
-      const auto ta = column(a->run, [](const Sample& s) { return s.total_us; });
-      const auto td = column(d->run, [](const Sample& s) { return s.total_us; });
-      auto per_lin = [](const Sample& s) {
-        return s.linearizations > 0 ? s.lin_us / s.linearizations : 0.0;
-      };
-      const auto la = column(a->run, per_lin), ld = column(d->run, per_lin);
-      std::fprintf(f, "| %s | %s | %.2fx | %.2fx | %.2fx | %s | %.2fx |\n", kModes[m].label, form,
-                   quantile(td, 0.5) / quantile(ta, 0.5), mean(td) / mean(ta),
-                   quantile(td, 0.95) / quantile(ta, 0.95),
-                   std::strcmp(form, "OCP-FD") ? "1.09x" : "1.29x",
-                   quantile(ld, 0.5) / quantile(la, 0.5));
-    }
+    for (const char* form : {"OCP-FD", "OCP-ID"})
+      for (const char* prov : {"AD", "generated AD"}) {
+        const Result* a = find(results, form, "analytical", m);
+        const Result* d = find(results, form, prov, m);
+        if (!a || !d)
+          continue;
+        const auto ta = column(a->run, [](const Sample& s) { return s.total_us; });
+        const auto td = column(d->run, [](const Sample& s) { return s.total_us; });
+        auto per_lin = [](const Sample& s) {
+          return s.linearizations > 0 ? s.lin_us / s.linearizations : 0.0;
+        };
+        const auto la = column(a->run, per_lin), ld = column(d->run, per_lin);
+        std::fprintf(f, "| %s | %s | %s | %.2fx | %.2fx | %.2fx | %s | %.2fx |\n", kModes[m].label,
+                     form, prov, quantile(td, 0.5) / quantile(ta, 0.5), mean(td) / mean(ta),
+                     quantile(td, 0.95) / quantile(ta, 0.95),
+                     std::strcmp(form, "OCP-FD") ? "1.09x" : "1.29x",
+                     quantile(ld, 0.5) / quantile(la, 0.5));
+      }
 
   std::fprintf(
       f, "\n## Time split per sample [us] (mean over the samples; share of the mean total)\n\n");

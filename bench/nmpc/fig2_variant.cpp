@@ -1,5 +1,7 @@
 // One variant of the paper's Fig. 2 (bench/nmpc/fig2.sh): the contour NMPC of examples/contour
-// (formulation FIG2_ID, RBD derivative provider FIG2_AUTODIFF, hard tunnel, double) in closed loop
+// (formulation FIG2_ID, RBD derivative provider FIG2_AUTODIFF: 0 analytical, 1 dual-number AD,
+// 2 code-generated AD (gen/ad; the pose node by dual numbers, task.hpp's NodeTag); hard tunnel,
+// double) in closed loop
 // against the example's plant, each controller call timed by phase. Compiled once per variant
 // (the controller instantiation takes ~2 GB of compiler memory).
 //
@@ -23,6 +25,9 @@
 #include <memory>
 #include <type_traits>
 
+#if FIG2_AUTODIFF == 2
+#include <robots/kinova_gen3_ad.hpp>  // before closed_loop.hpp (task.hpp): GeneratedCode
+#endif
 #include "closed_loop.hpp"
 #include "fig2.hpp"
 
@@ -41,7 +46,7 @@
 #error "FIG2_ID (0: OCP-FD, 1: OCP-ID) must be defined"
 #endif
 #ifndef FIG2_AUTODIFF
-#error "FIG2_AUTODIFF (0: analytical, 1: AD RBD derivatives) must be defined"
+#error "FIG2_AUTODIFF (0: analytical, 1: dual-number AD, 2: generated AD) must be defined"
 #endif
 
 namespace {
@@ -50,7 +55,9 @@ using namespace contour;
 using arbor::nmpc::NmpcStatus;
 using Clock = std::chrono::steady_clock;
 constexpr Formulation kForm = FIG2_ID ? Formulation::id : Formulation::fd;
-using Tag = std::conditional_t<FIG2_AUTODIFF != 0, arbor::ad::AutoDiff, arbor::ad::Analytical>;
+using Tag = std::conditional_t<
+    FIG2_AUTODIFF == 2, arbor::ad::Generated,
+    std::conditional_t<FIG2_AUTODIFF == 1, arbor::ad::AutoDiff, arbor::ad::Analytical>>;
 using Loop = ContourLoop<kForm, Tag, false, double>;
 using Ctrl = Loop::Controller;
 
@@ -75,7 +82,7 @@ int rbd_jacobians(Workspace<Tag, double>& ws, const Ctrl& c, double& sink) {
   for (int k = 0; k <= horizon; ++k) {
     const VecN<double, nx>& x = c.state(k);
     const VecN<double, nq> q = x.head<nq>();
-    pose.value_and_jacobian<Tag>(q, y12, J12);
+    pose.value_and_jacobian<NodeTag<Tag, Pose>>(q, y12, J12);
     sink += J12(0, 0);
     ++calls;
     if (k == horizon)
@@ -230,7 +237,17 @@ void run(const fig2::RunOptions& opt, fig2::Run& out) {
 }  // namespace
 
 namespace fig2 {
-#if FIG2_ID && FIG2_AUTODIFF
+#if FIG2_ID && FIG2_AUTODIFF == 2
+void run_id_generated(const RunOptions& o, Run& r) {
+  r.name = "OCP-ID generated AD";
+  run(o, r);
+}
+#elif FIG2_AUTODIFF == 2
+void run_fd_generated(const RunOptions& o, Run& r) {
+  r.name = "OCP-FD generated AD";
+  run(o, r);
+}
+#elif FIG2_ID && FIG2_AUTODIFF
 void run_id_autodiff(const RunOptions& o, Run& r) {
   r.name = "OCP-ID AD";
   run(o, r);

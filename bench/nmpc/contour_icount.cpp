@@ -1,0 +1,63 @@
+// Deterministic timing of the demo's controller: instructions per real-time-iteration phase
+// (preparation, feedback) of every sample of examples/contour's closed loop (OCP-FD, or OCP-ID
+// with CONTOUR_ID=1; analytical RBD derivatives, hard tunnel, double) to s > 0.99, counted by
+// callgrind (bench/nmpc/contour_icount.sh runs it and summarises). The loop is the example's own
+// ContourLoop; its Timer dumps callgrind's counters at each of the three time stamps of a sample,
+// so every dump holds exactly one phase's instructions: what a wall clock measures without the
+// machine's noise (preemption, caches, frequency). Without valgrind it runs and counts nothing.
+#include <cstdio>
+#include <memory>
+
+#include "closed_loop.hpp"
+
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#else
+#define CALLGRIND_START_INSTRUMENTATION
+#define CALLGRIND_DUMP_STATS
+#endif
+
+#ifndef CONTOUR_ID
+#define CONTOUR_ID 0
+#endif
+
+namespace {
+
+/// A ContourLoop Timer whose time stamps are callgrind dumps (elapsed: 0; the counts are in the
+/// dump files, in call order: [rest of the last sample, plant, shift], preparation, feedback).
+struct CallgrindTimer {
+  using Stamp = int;
+  static Stamp now() {
+    CALLGRIND_DUMP_STATS;
+    return 0;
+  }
+  static double elapsed(Stamp, Stamp) { return 0; }
+};
+
+using namespace contour;
+constexpr Formulation kForm = CONTOUR_ID ? Formulation::id : Formulation::fd;
+using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, double, CallgrindTimer>;
+
+}  // namespace
+
+int main() {
+  Options o;
+  const auto loop = std::make_unique<Loop>(o);
+  const auto st = loop->start();
+  if (st != arbor::nmpc::NmpcStatus::converged) {
+    std::fprintf(stderr, "first solve: %s\n", arbor::nmpc::to_string(st));
+    return 1;
+  }
+  CALLGRIND_START_INSTRUMENTATION;
+  Record r;
+  int n = 0, failed = 0;
+  while (!loop->done()) {
+    loop->sample(r);
+    ++n;
+    failed += !arbor::nmpc::succeeded(r.status);
+    std::printf("sample %d qp_iterations %d e_p %.6g s %.6g\n", n - 1, r.qp_iterations, r.e_p,
+                r.x[14]);
+  }
+  std::printf("samples %d failed %d %s\n", n, failed, CONTOUR_ID ? "OCP-ID" : "OCP-FD");
+  return failed != 0;
+}
