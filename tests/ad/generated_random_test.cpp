@@ -12,42 +12,28 @@
 
 #include "../derivatives/derivative_checks.hpp"
 #include "generated_random_robot.hpp"
+#include "provider_checks.hpp"
 
 namespace {
 
 using namespace arbor;
 using arbor::test::NoAllocScope;
 using R = arbor::test::AdRandomRobot;
+namespace pc = arbor::test::provider_checks;
 static_assert(arbor::test::has_every_joint_kind<R>() && arbor::test::is_branched<R>());
 
 template <class F>
 void generated_equals_fd_and_analytical(unsigned seed) {
   constexpr int n = F::nin, m = F::nout;
   std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> u(-1.2, 1.2);
-  VecN<double, n> x;
-  for (int i = 0; i < n; ++i)
-    x[i] = u(gen);
-  VecN<double, m> yg, ya, y;
+  const VecN<double, n> x = pc::random_input<n>(gen);
+  VecN<double, m> yg, ya;
   Eigen::Matrix<double, m, n> Jg, Ja;
-  auto wg = std::make_unique<ad::JacobianWorkspace<F, ad::Generated>>();
-  auto wa = std::make_unique<ad::JacobianWorkspace<F, ad::Analytical>>();
-  auto wv = std::make_unique<ad::ValueWorkspace<F>>();
-  {
-    NoAllocScope guard;
-    ad::bind<F>(*wg).template value_and_jacobian<ad::Generated>(x, yg, Jg);
-    ad::bind<F>(*wa).template value_and_jacobian<ad::Analytical>(x, ya, Ja);
-    ad::bind<F>(*wv).value(x, y);
-  }
-  ARBOR_EXPECT_REL(yg, y, 1e-12);
+  pc::value_and_jacobian<F, ad::Generated>(x, yg, Jg);
+  pc::value_and_jacobian<F, ad::Analytical>(x, ya, Ja);
+  ARBOR_EXPECT_REL(yg, pc::value<F>(x), 1e-12);
   ARBOR_EXPECT_REL(Jg, Ja, 1e-9);
-  const Eigen::Matrix<double, m, n> Jfd =
-      arbor::test::derivative_checks::central_diff<m, n>(x, [&](const VecN<double, n>& xx) {
-        VecN<double, m> yy;
-        ad::bind<F>(*wv).value(xx, yy);
-        return yy;
-      });
-  ARBOR_EXPECT_REL(Jg, Jfd, arbor::test::derivative_checks::kFdTol);
+  ARBOR_EXPECT_REL(Jg, pc::value_central_diff<F>(x), arbor::test::derivative_checks::kFdTol);
 }
 
 // Every frame through a table of the generated functions: the checks compile once, not per frame.
@@ -58,10 +44,7 @@ void frames(std::integer_sequence<int, f...>, unsigned seed) {
   constexpr Fn generated[] = {
       &ad::GeneratedCode<ad::FramePosition<R, f>>::template jacobian<double>...};
   std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> u(-1.2, 1.2);
-  VecN<double, nv> q;
-  for (int i = 0; i < nv; ++i)
-    q[i] = u(gen);
+  const VecN<double, nv> q = pc::random_input<nv>(gen);
   auto d = std::make_unique<Data<R, double>>();
   auto dfd = std::make_unique<Data<R, double>>();
   for (int i = 0; i < R::nf; ++i) {
