@@ -75,7 +75,56 @@ ARBOR_INLINE void minus_minv_times_derivatives(Data<R, Scalar>& d, DerivativeDat
     }
     return;
   }
-  // Rows limited to the tree of j's root joint (root_tree; M^-1 is zero between trees).
+  if constexpr (fuse_minverse<R>()) {
+    // Depth-first forest: M^-1 and the derivative matrices are block diagonal over the trees of
+    // the root joints. A tree of fewer than 12 joints (the YuMi's arms, the Atlas's legs) gets a
+    // dense product on its block with compile-time bounds (plain loops, which GCC unrolls and
+    // vectorises: Eigen's unaligned fixed-size segments went through its generic assignment loops
+    // out of line); a larger tree visits only the joints on a branch with column j.
+    const Scalar* Mi = d.Minv.data();  // column-major: column k at Mi + k n
+    static_for<n>([&](auto Root) {
+      constexpr int r0 = decltype(Root)::value;
+      if constexpr (R::parent[r0] < 0) {
+        constexpr int r1 = model::subtree_last<R>(r0);
+        constexpr int m = r1 - r0 + 1;
+        for (int j = r0; j <= r1; ++j) {
+          Scalar aq[m], av[m];
+          for (int r = 0; r < m; ++r) {
+            aq[r] = Scalar(0);
+            av[r] = Scalar(0);
+          }
+          for (int k = r0; k <= r1; ++k) {
+            if constexpr (m >= 12) {
+              if (!model::on_branch<R>[k][j])
+                continue;
+            }
+            const Scalar cq = dd.dtau_dq(k, j), cv = dd.dtau_dv(k, j);
+            const Scalar* mk = Mi + k * n + r0;
+            for (int r = 0; r < m; ++r) {
+              aq[r] -= mk[r] * cq;
+              av[r] -= mk[r] * cv;
+            }
+          }
+          Scalar* oq = dd.ddq_dq.data() + j * n;
+          Scalar* ov = dd.ddq_dv.data() + j * n;
+          for (int r = 0; r < r0; ++r) {
+            oq[r] = Scalar(0);
+            ov[r] = Scalar(0);
+          }
+          for (int r = 0; r < m; ++r) {
+            oq[r0 + r] = aq[r];
+            ov[r0 + r] = av[r];
+          }
+          for (int r = r1 + 1; r < n; ++r) {
+            oq[r] = Scalar(0);
+            ov[r] = Scalar(0);
+          }
+        }
+      }
+    });
+    return;
+  }
+  // Other numberings: rows limited to the tree of j's root joint (root_tree).
   constexpr auto& tree = root_tree<R>;
   const Scalar* Mi = d.Minv.data();  // column-major: column k at Mi + k n
   for (int j = 0; j < n; ++j) {
