@@ -129,6 +129,30 @@ TEST(QpDense, DegenerateVertexLinearProgram) {
   EXPECT_NEAR(c.s.x()(1), 1, 1e-7);
 }
 
+TEST(QpDense, BealeCyclingLinearProgram) {
+  // Beale's example (as in Chvatal, Linear Programming, ch. 3), on which the simplex method with
+  // the largest-coefficient rule cycles at the degenerate start vertex x = 0 (both rows active
+  // at zero): min -3/4 x1 + 150 x2 - 1/50 x3 + 6 x4, 1/4 x1 - 60 x2 - 1/25 x3 + 9 x4 <= 0,
+  // 1/2 x1 - 90 x2 - 1/50 x3 + 3 x4 <= 0, x >= 0, x3 <= 1. Optimum x = (1/25, 0, 1, 0), value
+  // -1/20 (by hand: multipliers 3/2 on row 2, 1/20 on x3 <= 1, reduced costs 15 and 21/2 on
+  // x2, x4); the cold start is that degenerate vertex
+  static Case<4, 2> c;
+  c.p.H.setZero();
+  c.p.g << -0.75, 150, -0.02, 6;
+  c.p.A << 0.25, -60, -0.04, 9, 0.5, -90, -0.02, 3;
+  c.p.lbx << 0, 0, 0, 0;
+  c.p.ubx << kInf, kInf, 1, kInf;
+  c.p.lba << -kInf, -kInf;
+  c.p.uba << 0, 0;
+  c.expect_optimal();
+  EXPECT_NEAR(c.s.x()(0), 0.04, 1e-9);
+  EXPECT_NEAR(c.s.x()(1), 0, 1e-9);
+  EXPECT_NEAR(c.s.x()(2), 1, 1e-9);
+  EXPECT_NEAR(c.s.x()(3), 0, 1e-9);
+  EXPECT_NEAR(c.s.info().objective, -0.05, 1e-9);
+  EXPECT_LE(c.s.info().iterations, 20);
+}
+
 TEST(QpDense, EqualityConstrained) {
   static Case<3, 2> c;
   c.p.H << 4, 1, 0, 1, 3, 1, 0, 1, 2;

@@ -357,44 +357,41 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
   if (!std::isfinite(du_))
     du_ = inf();
   // scales of the relative tolerances: |z|_inf and the largest term of the stationarity sum
-  du_scale_ = Scalar(1);
+  Scalar dscale = 1;
   for (int i = 0; i < NV; ++i) {
-    du_scale_ = std::max(du_scale_, std::abs(hx_(i)));
-    du_scale_ = std::max(du_scale_, std::abs(g(i)));
-    du_scale_ = std::max(du_scale_, std::abs(r_(i) - hx_(i) - g(i)));
+    dscale = std::max(dscale, std::abs(hx_(i)));
+    dscale = std::max(dscale, std::abs(g(i)));
+    dscale = std::max(dscale, std::abs(r_(i) - hx_(i) - g(i)));
   }
-  pr_scale_ = Scalar(1);  // max(1, |z_i| / |a_i|) in the loop, plus 1 after it
-  pr_ = 0;
-  co_ = 0;
-  pr_abs_ = 0;
-  co_abs_ = 0;
-  sd_ = 0;
-  isd_ = -1;
-  pc_ = 0;
-  ipc_ = -1;
-  spc_ = State::inactive;
-  for (int i = 0; i < nz; ++i) {
-    const Scalar z = zval(i), l = lb(i), u = ub(i), m = lam(i);
+  du_scale_ = dscale;
+  // the scalars are kept in locals (the working set is int8_t, which may alias the members)
+  Scalar pscale = 1;  // max(1, |z_i| / |a_i|) in the loop, plus 1 after it
+  Scalar pr = 0, co = 0, pr_abs = 0, co_abs = 0, sd = 0, pc = 0;
+  int isd = -1, ipc = -1;
+  State spc = State::inactive;
+  const State* w = ws.data();
+  // one body for the bounds (n = 1, folded) and the rows: no branch on i < NV per constraint
+  const auto visit = [&](int i, Scalar z, Scalar l, Scalar u, Scalar m, Scalar n) {
     if (!std::isfinite(z) || !std::isfinite(m)) {
-      pr_ = inf();
-      pr_abs_ = inf();
-      continue;
+      pr = inf();
+      pr_abs = inf();
+      return;
     }
-    const Scalar n = rnorm(i);
-    pr_scale_ = std::max(pr_scale_, std::abs(z) / n);
+    pscale = std::max(pscale, std::abs(z) / n);
     const Scalar vl = l - z, vu = z - u;
     const Scalar va = vl > vu ? vl : vu;
-    if (va > pr_abs_)
-      pr_abs_ = va;
+    if (va > pr_abs)
+      pr_abs = va;
     const Scalar v = va / n;
-    if (v > pr_)
-      pr_ = v;
+    if (v > pr)
+      pr = v;
+    const State wi = w[i];
     if (v > 0) {
       const State side = vl > vu ? State::lower : State::upper;
-      if (ws[i] != side && ws[i] != State::equality && v > pc_) {
-        pc_ = v;
-        ipc_ = i;
-        spc_ = side;
+      if (wi != side && wi != State::equality && v > pc) {
+        pc = v;
+        ipc = i;
+        spc = side;
       }
     }
     if (m != 0) {
@@ -402,21 +399,34 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
           m > 0 ? (u < inf() ? std::abs(u - z) : inf()) : (l > -inf() ? std::abs(z - l) : inf());
       const Scalar am = std::abs(m);
       const Scalar c = am < dist ? am : dist;
-      if (c > co_abs_)
-        co_abs_ = c;
+      if (c > co_abs)
+        co_abs = c;
       const Scalar cn = std::min(am * n, dist / n);
-      if (cn > co_)
-        co_ = cn;
+      if (cn > co)
+        co = cn;
     }
-    if (one_sided(i)) {
-      const Scalar wrong = -m * side_sign<Scalar>(ws[i]) * n;
-      if (wrong > sd_) {
-        sd_ = wrong;
-        isd_ = i;
+    if (wi == State::upper || wi == State::lower) {
+      const Scalar wrong = -m * side_sign<Scalar>(wi) * n;
+      if (wrong > sd) {
+        sd = wrong;
+        isd = i;
       }
     }
-  }
-  pr_scale_ += Scalar(1);
+  };
+  for (int i = 0; i < NV; ++i)
+    visit(i, x(i), lbx(i), ubx(i), lam_x(i), Scalar(1));
+  for (int j = 0; j < NA; ++j)
+    visit(NV + j, za_(j), lba(j), uba(j), lam_a(j), rn_(j));
+  pr_scale_ = pscale + Scalar(1);
+  pr_ = pr;
+  co_ = co;
+  pr_abs_ = pr_abs;
+  co_abs_ = co_abs;
+  sd_ = sd;
+  isd_ = isd;
+  pc_ = pc;
+  ipc_ = ipc;
+  spc_ = spc;
 }
 
 template <typename Scalar, int NV, int NA>
@@ -553,17 +563,19 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
     be.solve(dx_);
   }
   be.cons_mul(dx_, dza_);
-  for (int i = 0; i < nz; ++i) {
-    const Scalar wi = i < NV ? w_ : wa_(i - NV);
-    const Scalar d =
-        i >= NV && exact(i - NV)
-            ? tmpa_(i - NV)
-            : (ws[i] != State::inactive ? wi * (zval(i) - target(i) + dzval(i)) : -lam(i));
-    if (i < NV) {
-      dlam_x_(i) = d;
-    } else {
-      dlam_a_(i - NV) = d;
-    }
+  for (int i = 0; i < NV; ++i) {
+    const State wi = ws[i];
+    dlam_x_(i) = wi != State::inactive
+                     ? w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i))
+                     : -lam_x(i);
+  }
+  for (int j = 0; j < NA; ++j) {
+    const State wj = ws[NV + j];
+    dlam_a_(j) = exact(j)
+                     ? tmpa_(j)
+                     : (wj != State::inactive
+                            ? wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j))
+                            : -lam_a(j));
   }
 }
 
@@ -571,38 +583,48 @@ template <typename Scalar, int NV, int NA>
 Scalar ActiveSetCore<Scalar, NV, NA>::ratio_test(const QpSettings<Scalar>& s) {
   Scalar tau = 1;
   const Scalar en = std::max(s.tol_primal * pr_scale_, pr_);  // per constraint
-  for (int i = 0; i < nz; ++i) {
-    const Scalar dz = dzval(i);
-    if (ws[i] == State::inactive) {
-      const Scalar e = en * rnorm(i);
-      if (dz > 0 && ub(i) < inf()) {
-        const Scalar t = std::max(Scalar(0), ub(i) + e - zval(i)) / dz;
+  int pending = pending_;  // locals: the working set (int8_t) may alias the members
+  State pending_ws = pending_ws_;
+  // one body for the bounds (n = 1) and the rows: no branch on i < NV per constraint
+  const auto visit = [&](int i, Scalar z, Scalar dz, Scalar l, Scalar u, Scalar m, Scalar dm,
+                         Scalar n) {
+    const State wi = ws[i];
+    if (wi == State::inactive) {
+      const Scalar e = en * n;
+      if (dz > 0 && u < inf()) {
+        const Scalar t = std::max(Scalar(0), u + e - z) / dz;
         if (t < tau) {
           tau = t;
-          pending_ = i;
-          pending_ws_ = State::upper;
+          pending = i;
+          pending_ws = State::upper;
         }
-      } else if (dz < 0 && lb(i) > -inf()) {
-        const Scalar t = std::min(Scalar(0), lb(i) - e - zval(i)) / dz;
+      } else if (dz < 0 && l > -inf()) {
+        const Scalar t = std::min(Scalar(0), l - e - z) / dz;
         if (t < tau) {
           tau = t;
-          pending_ = i;
-          pending_ws_ = State::lower;
+          pending = i;
+          pending_ws = State::lower;
         }
       }
-    } else if (one_sided(i)) {
-      const Scalar sg = side_sign<Scalar>(ws[i]);
-      const Scalar m = lam(i) * sg, dm = dlam(i) * sg;
-      if (m > 0 && dm < 0) {
-        const Scalar t = m / -dm;
+    } else if (wi == State::upper || wi == State::lower) {
+      const Scalar sg = side_sign<Scalar>(wi);
+      const Scalar ms = m * sg, dms = dm * sg;
+      if (ms > 0 && dms < 0) {
+        const Scalar t = ms / -dms;
         if (t < tau) {
           tau = t;
-          pending_ = i;
-          pending_ws_ = State::inactive;
+          pending = i;
+          pending_ws = State::inactive;
         }
       }
     }
-  }
+  };
+  for (int i = 0; i < NV; ++i)
+    visit(i, x(i), dx_(i), lbx(i), ubx(i), lam_x(i), dlam_x_(i), Scalar(1));
+  for (int j = 0; j < NA; ++j)
+    visit(NV + j, za_(j), dza_(j), lba(j), uba(j), lam_a(j), dlam_a_(j), rn_(j));
+  pending_ = pending;
+  pending_ws_ = pending_ws;
   return tau;
 }
 

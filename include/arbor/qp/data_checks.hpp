@@ -6,16 +6,22 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "arbor/qp/cholesky.hpp"
 #include "arbor/qp/status.hpp"
 
 namespace arbor::qp::detail {
 
-/// True when every entry of every argument (Eigen objects) is finite.
+/// True when every entry of every argument (Eigen objects) is finite: the sum of all entries
+/// times zero is zero when they are and NaN when one is an infinity or a NaN. One vectorised
+/// multiply-add per entry and no branch (Eigen's allFinite() compares x - x with itself entry by
+/// entry: ~6 instructions per entry in the update of the Kinova benchmark's 17 stages, 75 k).
 template <typename... Mats>
 bool all_finite(const Mats&... m) {
-  return (m.allFinite() && ...);
+  using Scalar = typename std::common_type_t<typename Mats::Scalar...>;
+  const Scalar z = ((m.array() * Scalar(0)).sum() + ... + Scalar(0));
+  return z == z;
 }
 
 /// Checks bounds: no NaN, lb <= ub, lb < +inf, ub > -inf. Returns accepted, non_finite or

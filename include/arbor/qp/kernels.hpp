@@ -24,8 +24,16 @@
 
 namespace arbor::qp::detail::kernels {
 
-/// Block edge of the register-blocked kernels.
+/// Block edge of the register-blocked kernels (columns of a block; rows where mb is not).
 inline constexpr int nb = 4;
+/// Rows of a block in the bulk of gemm_nt_cols: 8 with AVX (two 256-bit registers of double per
+/// column: 8 accumulators of 16, fewer loads and broadcasts per multiply-add), nb otherwise (SSE2
+/// has 16 registers of 2 doubles and the Cortex-M FPUs none: a 4 x 4 block fills them).
+#if defined(__AVX__)
+inline constexpr int mb = 2 * nb;
+#else
+inline constexpr int mb = nb;
+#endif
 
 /// Offset of column j in a packed lower triangle of order n (the position of entry (j, j)).
 constexpr int packed_col(int n, int j) {
@@ -64,14 +72,18 @@ inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   }
 }
 
-/// Columns j0..j0+C-1 of c, rows r0..M-1 (r0 a multiple of nb; blocks of nb rows, the last
-/// one M % nb): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), with the strides of gemm_nt_block and
-/// absolute indices (c, p and q point at entry (0, 0)). With r0 = j0 on a square c the entries
+/// Columns j0..j0+C-1 of c, rows r0..M-1 (r0 a multiple of nb; blocks of mb rows, then of nb,
+/// the last one M % nb): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), with the strides of gemm_nt_block
+/// and absolute indices (c, p and q point at entry (0, 0)). With r0 = j0 on a square c the entries
 /// above the diagonal of the diagonal block are written too (scratch values).
 template <int M, int C, int PI, int QI, int QC, int LDC, bool Add, typename Scalar>
 inline void gemm_nt_cols(Scalar* c, const Scalar* p, const Scalar* q, int j0, int r0, int k) {
   constexpr int tail = (M % nb);
   int r = r0;
+  if constexpr (mb > nb) {
+    for (; r + mb <= M; r += mb)
+      gemm_nt_block<mb, C, PI, QI, QC, LDC, Add>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
+  }
   for (; r + nb <= M; r += nb)
     gemm_nt_block<nb, C, PI, QI, QC, LDC, Add>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
   if constexpr (tail > 0) {

@@ -24,7 +24,9 @@
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
 // penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
 // gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve
-// ~45 k). This is the default backend of OcpQpSolver (ocp_qp_solver.hpp).
+// ~45 k); with AVX2+FMA and the [A B] products as lazy products (ocp_backend.hpp,
+// lazy_products) the factorization takes 223 k (OCP-FD) and one solve_exact ~67 k. This is the
+// default backend of OcpQpSolver (ocp_qp_solver.hpp).
 // Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
 // (downdate) of L_k leaves, after its u columns, the vector v^ with P_k +-= v^ v^', so M_{k-1}
 // changes by +-(F_{k-1}' v^)(F_{k-1}' v^)': one sweep from stage k down to stage 0,
@@ -41,6 +43,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "arbor/qp/backend.hpp"
 #include "arbor/qp/kernels.hpp"
@@ -180,10 +183,17 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       }
       // h = [f_u; f_x] + [B A]' s
       VecW h;
-      h.template head<NU>() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX);
-      h.template head<NU>().noalias() += s.B.transpose() * sx;
-      h.template tail<NX>() = Eigen::Map<const VecX>(fk);
-      h.template tail<NX>().noalias() += s.A.transpose() * sx;
+      if constexpr (lazy_products) {
+        h.template head<NU>().noalias() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX) +
+                                          s.B.transpose().lazyProduct(sx);
+        h.template tail<NX>().noalias() =
+            Eigen::Map<const VecX>(fk) + s.A.transpose().lazyProduct(sx);
+      } else {
+        h.template head<NU>() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX);
+        h.template head<NU>().noalias() += s.B.transpose() * sx;
+        h.template tail<NX>() = Eigen::Map<const VecX>(fk);
+        h.template tail<NX>().noalias() += s.A.transpose() * sx;
+      }
       solve_lower_packed<NW>(l_stage[k].data(), h.data());
       Eigen::Map<VecW>{fk} = h;
       ynext = fk + NU;
@@ -207,8 +217,13 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       }
       // dx_{k+1} = A dx_k + B du_k + e_k
       VecX xn = Eigen::Map<const VecX>(a.data() + k * NR);
-      xn.noalias() += s.A * dw.template tail<NX>();
-      xn.noalias() += s.B * dw.template head<NU>();
+      if constexpr (lazy_products) {
+        xn.noalias() +=
+            s.A.lazyProduct(dw.template tail<NX>()) + s.B.lazyProduct(dw.template head<NU>());
+      } else {
+        xn.noalias() += s.A * dw.template tail<NX>();
+        xn.noalias() += s.B * dw.template head<NU>();
+      }
       Eigen::Map<VecX>{fk} = dw.template tail<NX>();
       Eigen::Map<Eigen::Matrix<Scalar, NU, 1>>(fk + NX) = dw.template head<NU>();
       dw.template tail<NX>() = xn;
@@ -336,13 +351,14 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
   template <int n>
   static void unpack_tail(const Scalar* l, MatX& u) {
     constexpr int o = n - NX;
-    for (int i = 0; i < NX; ++i) {
-      const Scalar* c = col<n>(l, o + i) + o;
-      for (int r = 0; r < i; ++r)
-        u(r, i) = 0;
-      for (int r = i; r < NX; ++r)
-        u(r, i) = c[r];
+    // copies of compile-time length per column (unrolled, vectorised)
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ((u.col(I).template head<I>().setZero(),
+        u.col(I).template tail<NX - I>() =
+            Eigen::Map<const Eigen::Matrix<Scalar, NX - I, 1>>(col<n>(l, o + I) + o + I)),
+       ...);
     }
+    (std::make_integer_sequence<int, NX>{});
   }
 
   bool factor_stage(int k, const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
@@ -358,11 +374,24 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       d(NU + i, NU + i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0));
     for (int i = 0; i < NU; ++i)
       d(i, i) += delta + (wsb[NX + i] != ConstraintState::inactive ? w : Scalar(0));
-    const int r0 = k * NR;
-    for (int j = 0; j < NG; ++j) {
-      if (ws[NV + r0 + NX + j] == ConstraintState::inactive)
-        continue;
-      add_rank_one_lower(d, path_row(k, j), wa(r0 + NX + j));
+    if constexpr (NG > 0) {
+      // + sum over the active path rows of w_j a_j a_j': one product of the register-blocked
+      // kernel (a_j and w_j a_j as columns) instead of a rank-one loop per row
+      const int r0 = k * NR;
+      // zeroed: GCC -O3 (arm-none-eabi, -Werror) cannot see that only the first m columns
+      // are read (-Wmaybe-uninitialized)
+      Eigen::Matrix<Scalar, NW, NG> pa = Eigen::Matrix<Scalar, NW, NG>::Zero();
+      Eigen::Matrix<Scalar, NW, NG> pw = Eigen::Matrix<Scalar, NW, NG>::Zero();
+      int m = 0;
+      for (int j = 0; j < NG; ++j) {
+        if (ws[NV + r0 + NX + j] == ConstraintState::inactive)
+          continue;
+        pa.col(m) = path_row(k, j);
+        pw.col(m) = wa(r0 + NX + j) * pa.col(m);
+        ++m;
+      }
+      if (m > 0)
+        gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), pa.data(), pw.data(), m);
     }
     // + F' P_{k+1} F = T' T, T = Lxx_{k+1}' F, F = [B A]; tt = T' (NW x NX), built as
     // tt = F' Lxx_{k+1}: tt(c, i) = sum_{r >= i} F(r, c) Lxx(r, i), by blocks of 4 columns i
@@ -451,8 +480,13 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     for (; s > dirty_to && s >= 0; --s) {
       if (s < k) {
         const auto& st = p->stage[s];
-        v.template head<NU>().noalias() = st.B.transpose() * vx;
-        v.template tail<NX>().noalias() = st.A.transpose() * vx;
+        if constexpr (lazy_products) {
+          v.template head<NU>().noalias() = st.B.transpose().lazyProduct(vx);
+          v.template tail<NX>().noalias() = st.A.transpose().lazyProduct(vx);
+        } else {
+          v.template head<NU>().noalias() = st.B.transpose() * vx;
+          v.template tail<NX>().noalias() = st.A.transpose() * vx;
+        }
       }
       Scalar* l = l_stage[s].data();
       for (int j = 0; j < NU; ++j) {
