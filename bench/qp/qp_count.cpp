@@ -7,6 +7,7 @@
 // ("chol_" labels), and one full factorization of each backend is measured on its own ("factor"
 // labels: dynamics rows and x_0 in the working set).
 //   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
+//   ./qp_count default: the default backend only
 #include <array>
 #include <cstdio>
 
@@ -122,8 +123,20 @@ void factor(const char* name) {
 }
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
+  // `qp_count default`: the default backend only (the rows of RESULTS.md's first section)
+  if (argc > 1 && argv[1][0] == 'd') {
+    factor<KinovaQp<double, 1>, Default<KinovaQp<double, 1>>>("fd_double/factor");
+    factor<KinovaQp<double, 8>, Default<KinovaQp<double, 8>>>("id_double/factor");
+    factor<KinovaQp<float, 1>, Default<KinovaQp<float, 1>>>("fd_float/factor");
+    run<KinovaQp<double, 1>>("fd_double");
+    run<KinovaQp<double, 8>>("id_double");
+    run<KinovaQp<float, 1>>("fd_float");
+    run<KinovaQp<float, 8>>("id_float");
+    return 0;
+  }
   factor<KinovaQp<double, 1>, Default<KinovaQp<double, 1>>>("fd_double/factor");
+  factor<KinovaQp<double, 8>, Default<KinovaQp<double, 8>>>("id_double/factor");
   factor<KinovaQp<double, 1>, Cholesky<KinovaQp<double, 1>>>("fd_double/chol_factor");
   factor<KinovaQp<float, 1>, Default<KinovaQp<float, 1>>>("fd_float/factor");
   factor<KinovaQp<float, 1>, Cholesky<KinovaQp<float, 1>>>("fd_float/chol_factor");

@@ -4,6 +4,10 @@
 // from bench/qp/kinova_qp.hpp, as in the host benchmark. Output lines:
 //   QPBENCH <variant> <cold instructions> <cold iterations> <cold status>
 //           <warm instructions> <warm iterations> <warm status> <solver bytes> <stack bytes>
+//           <update instructions> <update iterations> <update status>
+// (warm: setup(perturbed) + solve from the nominal solution; update: the real-time path, the
+// bound problem refilled with the perturbed data, update(Convexity::assumed) + solve, as
+// bench/qp/qp_count.cpp's warm_update_assumed).
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "arbor_target.h"
 #include "bench_util.hpp"
@@ -58,9 +62,28 @@ void run(const char* name) {
   put(std::uint64_t(sizeof(solver)));
   put(" ");
   put(std::uint64_t(stack));
+
+  // the real-time path: the bound problem refilled with the perturbed data, then
+  // update(Convexity::assumed) and the warm-started solve (from the nominal solution again)
+  const arbor::qp::QpStatus rt_setup = solver.setup(nominal, settings);
+  solver.cold_start();
+  const arbor::qp::QpStatus rt_cold = solver.solve();
+  nominal = perturbed;
+  const std::uint64_t t4 = arbor_ticks();
+  const arbor::qp::QpStatus rt_update = solver.update(arbor::qp::Convexity::assumed);
+  const arbor::qp::QpStatus rt = solver.solve();
+  const std::uint64_t t5 = arbor_ticks();
+  put(" ");
+  put((t5 - t4) * ipt);
+  put(" ");
+  put(std::uint64_t(solver.info().iterations));
+  put(" ");
+  put(arbor::qp::to_string(rt));
   put("\n");
   if (cold_setup != arbor::qp::QpStatus::accepted || warm_setup != arbor::qp::QpStatus::accepted ||
-      warm != arbor::qp::QpStatus::solved)
+      warm != arbor::qp::QpStatus::solved || rt_setup != arbor::qp::QpStatus::accepted ||
+      rt_cold != arbor::qp::QpStatus::solved || rt_update != arbor::qp::QpStatus::accepted ||
+      rt != arbor::qp::QpStatus::solved)
     ++arbor::bench::failure_count();
 }
 
