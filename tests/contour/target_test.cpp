@@ -143,10 +143,12 @@ constexpr double kTauTol = CONTOUR_TEST_ID ? 1e-2 : 1e-9;
 // float built with and without FMA contraction (-mfma -ffp-contract=fast; the Cortex-M4F
 // contracts too): with the former float QP primal tolerance 1e-6 (OCP-FD) q, s within 5.5e-5,
 // qd, sd within 9.5e-3; with today's 3e-5 (float_qp_tol_primal) OCP-FD 2.9e-7 and 1.8e-5, OCP-ID
-// 4.9e-6 and 1.1e-4. The tolerances, set on the former figures with 4x margin, are kept: 2e-4 for
-// the positions (q, s), 4e-2 for the velocities (qd, sd).
-[[maybe_unused]] constexpr double kTrajectoryTolPos = CONTOUR_TEST_FLOAT ? 2e-4 : 1e-6;
-[[maybe_unused]] constexpr double kTrajectoryTolVel = CONTOUR_TEST_FLOAT ? 4e-2 : 1e-6;
+// 4.9e-6 and 1.1e-4; the Cortex-M4F against the host (bench/nmpc/RESULTS-targets.md, e512db4):
+// OCP-FD 3.0e-6 and 5.0e-4, OCP-ID 9.0e-8 and 2.9e-6. The tolerances are about 4x the largest:
+// 2e-5 for the positions (q, s), 2e-3 for the velocities (qd, sd) (were 2e-4 and 4e-2, set on the
+// former figures).
+[[maybe_unused]] constexpr double kTrajectoryTolPos = CONTOUR_TEST_FLOAT ? 2e-5 : 1e-6;
+[[maybe_unused]] constexpr double kTrajectoryTolVel = CONTOUR_TEST_FLOAT ? 2e-3 : 1e-6;
 
 TEST(ContourTarget, ClosedLoop50Samples) {
 #if defined(ARBOR_BARE_METAL)
@@ -201,16 +203,16 @@ TEST(ContourTarget, ClosedLoop50Samples) {
   // multipliers stay in place across shift() and a warm start steps on its working set before
   // adding constraints; 597 and 119 before (shifted multipliers: the tunnel's active stages one
   // stage off every sample). The bound, 4 per sample on average, fails the former OCP-FD loop
-  // and leaves 1.5x margin for another instruction set. Float: not measured, printed only.
+  // and leaves 1.5x margin for another instruction set. Float (closed_loop.hpp's float QP
+  // tolerance and back-off): host OCP-FD 112, OCP-ID 89; Cortex-M4F 113 and 89; with the former
+  // float tolerance 1e-6 OCP-FD took 696 (the bound fails it).
   int qp_total = 0;
   std::array<double, kSamples> qp_its{};
   for (int k = 0; k < kSamples; ++k) {
     qp_its[std::size_t(k)] = g_records[std::size_t(k)].qp_iterations;
     qp_total += g_records[std::size_t(k)].qp_iterations;
   }
-  if constexpr (!CONTOUR_TEST_FLOAT) {
-    EXPECT_LE(qp_total, 4 * kSamples);
-  }
+  EXPECT_LE(qp_total, 4 * kSamples);
   double qp_med = 0, qp_max = 0;
   median_max(qp_its, qp_med, qp_max);
 #if defined(ARBOR_BARE_METAL)
