@@ -147,8 +147,7 @@ int main(int argc, char** argv) {
     } else if (a == "--s-end") {
       o.s_end = std::atof(value("a number"));
     } else if (a == "--sqp") {
-      o.sqp = true;
-      o.scaled_tunnel = true;
+      o.sqp = true;  // (ContourLoop then scales the tunnel row)
       if (i + 1 < argc && argv[i + 1][0] != '-')
         o.sqp_iter = std::atoi(argv[++i]);
     } else if (a == "--mismatch") {
