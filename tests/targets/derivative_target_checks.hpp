@@ -44,40 +44,18 @@ DerivErrors derivative_errors(const DerivRefView& ref) {
   using D = Data<R, S>;
   static D data;  // static storage, as firmware would keep it
   static DerivativeData<R, S> deriv;
-  int perm[R::nv];  // perm[ours] = reference index, matched by joint name
-  for (int i = 0; i < R::nv; ++i) {
-    perm[i] = -1;
-    for (int j = 0; j < ref.nv; ++j)
-      if (ref.joints[j] == R::joint_names[i])
-        perm[i] = j;
-  }
-  auto rel_vec = [&](const typename D::Vector& x, const double* r) {
-    double err = 0, mag = 1;
-    for (int i = 0; i < R::nv; ++i) {
-      err = larger(err, std::fabs(double(x[i]) - r[perm[i]]));
-      mag = larger(mag, std::fabs(r[perm[i]]));
-    }
-    return err / mag;
-  };
-  auto rel_mat = [&](const typename D::Matrix& X, const double* r) {
-    double err = 0, mag = 1;
-    for (int i = 0; i < R::nv; ++i)
-      for (int j = 0; j < R::nv; ++j) {
-        const double rij = r[perm[i] * ref.nv + perm[j]];
-        err = larger(err, std::fabs(double(X(i, j)) - rij));
-        mag = larger(mag, std::fabs(rij));
-      }
-    return err / mag;
-  };
+  const RefCompare<R> cmp(ref.joints, ref.nv);
+  auto rel_vec = [&](const typename D::Vector& x, const double* r) { return cmp.vec(x, r); };
+  auto rel_mat = [&](const typename D::Matrix& X, const double* r) { return cmp.mat(X, r); };
   DerivErrors e;
   typename D::Vector q, v, a, tau;
   for (int k = 0; k < ref.samples; ++k) {
     const int o = k * ref.nv;
     for (int i = 0; i < R::nv; ++i) {
-      q[i] = S(ref.q[o + perm[i]]);
-      v[i] = S(ref.v[o + perm[i]]);
-      a[i] = S(ref.a[o + perm[i]]);
-      tau[i] = S(ref.tau[o + perm[i]]);
+      q[i] = S(ref.q[o + cmp.perm[i]]);
+      v[i] = S(ref.v[o + cmp.perm[i]]);
+      a[i] = S(ref.a[o + cmp.perm[i]]);
+      tau[i] = S(ref.tau[o + cmp.perm[i]]);
     }
     const int om = k * ref.nv * ref.nv;
     NoAllocScope guard;

@@ -50,7 +50,46 @@ struct Tolerance<float> {
 /// largest relative error of each, so that a test can both check and report them.
 /// max(a, b) written as a comparison: GCC 12 for AArch64 crashes (internal compiler error in
 /// vect_transform_reduction) when it vectorizes std::fmax reductions.
-inline double larger(double a, double b) { return b > a ? b : a; }
+inline double larger(double a, double b) {
+  return b > a ? b : a;
+}
+
+/// Our joint order matched to a reference's by joint name, and the norm-wise relative error
+/// (max |ours - reference| / max(1, max |reference|)) of one of our vectors or matrices against
+/// the reference's row-major values.
+template <Robot R>
+struct RefCompare {
+  int perm[R::nv];  ///< perm[ours] = reference index (-1: not found)
+  int ref_nv;       ///< the reference's DoF (its matrices' row length)
+  RefCompare(const std::string_view* joints, int nv) : ref_nv(nv) {
+    for (int i = 0; i < R::nv; ++i) {
+      perm[i] = -1;
+      for (int j = 0; j < nv; ++j)
+        if (joints[j] == R::joint_names[i])
+          perm[i] = j;
+    }
+  }
+  template <class V>
+  double vec(const V& x, const double* r) const {
+    double err = 0, mag = 1;
+    for (int i = 0; i < R::nv; ++i) {
+      err = larger(err, std::fabs(double(x[i]) - r[perm[i]]));
+      mag = larger(mag, std::fabs(r[perm[i]]));
+    }
+    return err / mag;
+  }
+  template <class M>
+  double mat(const M& X, const double* r) const {
+    double err = 0, mag = 1;
+    for (int i = 0; i < R::nv; ++i)
+      for (int j = 0; j < R::nv; ++j) {
+        const double rij = r[perm[i] * ref_nv + perm[j]];
+        err = larger(err, std::fabs(double(X(i, j)) - rij));
+        mag = larger(mag, std::fabs(rij));
+      }
+    return err / mag;
+  }
+};
 
 struct RbdErrors {
   double rnea = 0, gravity = 0, nle = 0, crba = 0, aba = 0, minv = 0;
@@ -59,41 +98,19 @@ struct RbdErrors {
 template <Robot R, class S>
 RbdErrors rbd_errors(const RefView& ref) {
   using D = Data<R, S>;
-  static D data;    // static storage, as firmware would keep it
-  int perm[R::nv];  // perm[ours] = reference index, matched by joint name
-  for (int i = 0; i < R::nv; ++i) {
-    perm[i] = -1;
-    for (int j = 0; j < ref.nv; ++j)
-      if (ref.joints[j] == R::joint_names[i])
-        perm[i] = j;
-  }
+  static D data;  // static storage, as firmware would keep it
   RbdErrors e;
-  auto rel_vec = [&](const typename D::Vector& x, const double* r) {
-    double err = 0, mag = 1;
-    for (int i = 0; i < R::nv; ++i) {
-      err = larger(err, std::fabs(double(x[i]) - r[perm[i]]));
-      mag = larger(mag, std::fabs(r[perm[i]]));
-    }
-    return err / mag;
-  };
-  auto rel_mat = [&](const typename D::Matrix& X, const double* r) {
-    double err = 0, mag = 1;
-    for (int i = 0; i < R::nv; ++i)
-      for (int j = 0; j < R::nv; ++j) {
-        const double rij = r[perm[i] * ref.nv + perm[j]];
-        err = larger(err, std::fabs(double(X(i, j)) - rij));
-        mag = larger(mag, std::fabs(rij));
-      }
-    return err / mag;
-  };
+  const RefCompare<R> cmp(ref.joints, ref.nv);
+  auto rel_vec = [&](const typename D::Vector& x, const double* r) { return cmp.vec(x, r); };
+  auto rel_mat = [&](const typename D::Matrix& X, const double* r) { return cmp.mat(X, r); };
   typename D::Vector q, v, a, tau;
   for (int k = 0; k < ref.samples; ++k) {
     const int o = k * ref.nv;
     for (int i = 0; i < R::nv; ++i) {
-      q[i] = S(ref.q[o + perm[i]]);
-      v[i] = S(ref.v[o + perm[i]]);
-      a[i] = S(ref.a[o + perm[i]]);
-      tau[i] = S(ref.tau[o + perm[i]]);
+      q[i] = S(ref.q[o + cmp.perm[i]]);
+      v[i] = S(ref.v[o + cmp.perm[i]]);
+      a[i] = S(ref.a[o + cmp.perm[i]]);
+      tau[i] = S(ref.tau[o + cmp.perm[i]]);
     }
     const int om = k * ref.nv * ref.nv;
     NoAllocScope guard;
