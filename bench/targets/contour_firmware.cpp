@@ -14,8 +14,8 @@ using namespace contour;
 using S = CONTOUR_FW_SCALAR;
 constexpr Formulation kForm = CONTOUR_FW_ID ? Formulation::id : Formulation::fd;
 using W = Workspace<arbor::ad::Analytical, S>;
-using Problem = decltype(make_problem<kForm, arbor::ad::Analytical, false>(std::declval<W&>(),
-                                                                            Reference{}));
+using Problem =
+    decltype(make_problem<kForm, arbor::ad::Analytical, false>(std::declval<W&>(), Reference{}));
 using Controller = arbor::nmpc::Nmpc<Problem, S>;
 
 volatile S g_state[nx];  // the measured state (volatile: nothing is folded away)
@@ -26,8 +26,8 @@ int main() {
   ref.c = 0.2;
   for (int i = 0; i < 9; ++i)
     ref.R0[std::size_t(i)] = (i % 4 == 0) ? 1.0 : 0.0;
-  static const Problem problem = make_problem<kForm, arbor::ad::Analytical, false>(g_ws, ref);
-  static Controller ctrl(problem);
+  // (the controller keeps its own copy of the problem: built in place, not kept twice)
+  static Controller ctrl(make_problem<kForm, arbor::ad::Analytical, false>(g_ws, ref));
   Controller::Vx x;
   for (int i = 0; i < nx; ++i)
     x[i] = g_state[i];

@@ -26,7 +26,10 @@
 //         ctrl.feedback(x0);                               // RTI: latency = feedback only
 //
 // A failed call (see NmpcStatus) leaves the plan unchanged: control() is always finite, the
-// current plan's u_0 (after shift(), the previous plan's u_1). Everything is sized at compile
+// current plan's u_0 (after shift(), the previous plan's u_1). The multipliers are stored once,
+// in the QP solver (its warm start and its result): after qp_failed they are the solver's best
+// iterate (iteration limit, stall) or zero (infeasible, unbounded, non-finite); after
+// line_search_failed, the rejected QP's. Everything is sized at compile
 // time, nothing allocates, the object is reentrant (its state is its members; RBD calls use the
 // workspaces their handles point to, one controller per workspace set).
 // Cost per SQP iteration: N path linearisations + the terminal one (ocp/linearize.hpp), one QP
@@ -85,8 +88,8 @@ class Nmpc {
       lbu_[std::size_t(k)] = problem.lbu.template cast<Scalar>();
       ubu_[std::size_t(k)] = problem.ubu.template cast<Scalar>();
     }
-    lam_x_.setZero();
-    lam_a_.setZero();
+    lam_bounds().setZero();
+    lam_rows().setZero();
   }
   Nmpc(const Nmpc&) = delete;  // the QP solver points into this object
   Nmpc& operator=(const Nmpc&) = delete;
@@ -102,8 +105,8 @@ class Nmpc {
       wk.setZero();
       wk.template head<nu>() = u;
     }
-    lam_x_.setZero();
-    lam_a_.setZero();
+    lam_bounds().setZero();
+    lam_rows().setZero();
     prepared_ = false;
     return NmpcStatus::prepared;
   }
@@ -169,25 +172,25 @@ class Nmpc {
   /// Multipliers of x_{k+1} - F(x_k, u_k, p_k) = 0, k = 0..N-1 (QP sign convention).
   auto dynamics_multiplier(int k) const {
     ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
-    return lam_a_.template segment<nx>(Qp::dynamics_offset(k));
+    return lam_rows().template segment<nx>(Qp::dynamics_offset(k));
   }
   /// Multipliers of the bounds of x_k, k = 0..N (> 0: upper bound active; at k = 0 the
   /// multiplier of x_0 = x0).
   auto state_bound_multiplier(int k) const {
     ARBOR_ASSERT(k >= 0 && k <= N, "state index out of range");
-    return lam_x_.template segment<nx>(Qp::state_offset(k));
+    return lam_bounds().template segment<nx>(Qp::state_offset(k));
   }
   /// Multipliers of the bounds of [u_k; s_k], k = 0..N-1 (> 0: upper bound active).
   auto input_bound_multiplier(int k) const {
     ARBOR_ASSERT(k >= 0 && k < N, "input index out of range");
-    return lam_x_.template segment<nw>(Qp::input_offset(k));
+    return lam_bounds().template segment<nw>(Qp::input_offset(k));
   }
   /// Multipliers of the QP rows of the terminal constraints.
-  auto terminal_constraint_multiplier() const { return lam_a_.template tail<ngn>(); }
+  auto terminal_constraint_multiplier() const { return lam_rows().template tail<ngn>(); }
   /// Multipliers of the QP rows of the path constraints of stage k (> 0: upper side active).
   auto constraint_multiplier(int k) const {
     ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
-    return lam_a_.template segment<ng>(Qp::constraint_offset(k));
+    return lam_rows().template segment<ng>(Qp::constraint_offset(k));
   }
   /// Figures of the last call.
   const Info& info() const { return info_; }
@@ -284,8 +287,8 @@ class Nmpc {
     if (xn.allFinite())
       x_[N] = xn;
     if (settings_.shift_multipliers) {
-      QpSolver::shift_variables(lam_x_);
-      QpSolver::shift_rows(lam_a_);
+      QpSolver::shift_variables(lam_bounds());
+      QpSolver::shift_rows(lam_rows());
     }
     prepared_ = false;
   }
@@ -303,8 +306,8 @@ class Nmpc {
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
-      const VecN<Scalar, ng> lg = lam_a_.template segment<ng>(Qp::constraint_offset(k));
-      const Vx ld = lam_a_.template segment<nx>(Qp::dynamics_offset(k));
+      const VecN<Scalar, ng> lg = lam_rows().template segment<ng>(Qp::constraint_offset(k));
+      const Vx ld = lam_rows().template segment<nx>(Qp::dynamics_offset(k));
       ocp::linearize_path<K>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st);
       if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
           st.lg.hasNaN() || st.ug.hasNaN())  // (row bounds may be infinite)
@@ -317,7 +320,7 @@ class Nmpc {
       st.ubu.template tail<ns>().setConstant(inf);
     }
     auto& t = qp_.terminal;
-    const VecN<Scalar, ngn> lgn = lam_a_.template tail<ngn>();
+    const VecN<Scalar, ngn> lgn = lam_rows().template tail<ngn>();
     ocp::linearize_terminal<K>(problem_, x_[N], p_[N], lgn, t);
     if (!qp::detail::all_finite(t.Q, t.q, t.C) || t.lg.hasNaN() || t.ug.hasNaN())
       return NmpcStatus::non_finite_evaluation;
@@ -403,6 +406,13 @@ class Nmpc {
   }
 
  private:
+  /// The multiplier estimate: the QP solver's multipliers (flat; its warm start and its result,
+  /// stored once).
+  auto& lam_bounds() { return solver_.lam_x(); }
+  const auto& lam_bounds() const { return solver_.lam_x(); }
+  auto& lam_rows() { return solver_.lam_a(); }
+  const auto& lam_rows() const { return solver_.lam_a(); }
+
   /// QP update (setup when the settings changed) and warm-started solve; the QP's status.
   qp::QpStatus solve_prepared_qp() {
     qp::QpStatus st;
@@ -415,9 +425,7 @@ class Nmpc {
     }
     if (st != qp::QpStatus::accepted)
       return st;
-    solver_.x().setZero();
-    solver_.lam_x() = lam_x_;
-    solver_.lam_a() = lam_a_;
+    solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
   }
 
@@ -426,9 +434,18 @@ class Nmpc {
     info_.qp_status = st;
     info_.qp_iterations += solver_.info().iterations;
     ++info_.iterations;
-    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !solver_.lam_x().allFinite() ||
-        !solver_.lam_a().allFinite())
+    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !lam_bounds().allFinite() ||
+        !lam_rows().allFinite()) {
+      // The multipliers are the solver's iterate (one copy, no backup): keep its best iterate
+      // (iteration limit, stall) as the next warm start, reset anything else (an infeasibility
+      // or unboundedness certificate, non-finite values).
+      if (st == qp::QpStatus::infeasible || st == qp::QpStatus::unbounded ||
+          !lam_bounds().allFinite() || !lam_rows().allFinite()) {
+        lam_bounds().setZero();
+        lam_rows().setZero();
+      }
       return NmpcStatus::qp_failed;
+    }
     info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
     return NmpcStatus::step_taken;
   }
@@ -441,7 +458,7 @@ class Nmpc {
   }
 
   void record_kkt() {
-    const KktResiduals<Scalar> r = kkt_residuals(qp_, lam_x_, lam_a_);
+    const KktResiduals<Scalar> r = kkt_residuals(qp_, lam_bounds(), lam_rows());
     info_.stationarity = r.stationarity;
     info_.primal_residual = r.primal;
     info_.complementarity = r.complementarity;
@@ -450,7 +467,7 @@ class Nmpc {
   /// Stationarity and complementarity are relative to 1 + max(|grad f|_inf, |lambda|_inf) (as the
   /// QP's tolerances are); the primal residual is absolute.
   bool converged() const {
-    Scalar g = std::fmax(lam_x_.cwiseAbs().maxCoeff(), lam_a_.cwiseAbs().maxCoeff());
+    Scalar g = std::fmax(lam_bounds().cwiseAbs().maxCoeff(), lam_rows().cwiseAbs().maxCoeff());
     for (const auto& st : qp_.stage)
       g = std::fmax(g, std::fmax(st.q.cwiseAbs().maxCoeff(), st.r.cwiseAbs().maxCoeff()));
     g = std::fmax(g, qp_.terminal.q.cwiseAbs().maxCoeff());
@@ -465,8 +482,7 @@ class Nmpc {
       x_[std::size_t(k)] += alpha * solver_.state(k);
     for (int k = 0; k < N; ++k)
       w_[std::size_t(k)] += alpha * solver_.input(k);
-    lam_x_ = solver_.lam_x();  // full multiplier step (the QP's are the best estimate)
-    lam_a_ = solver_.lam_a();
+    // full multiplier step: the QP's multipliers, already in place, are the estimate
     info_.step_size = alpha;
     return NmpcStatus::step_taken;
   }
@@ -515,8 +531,6 @@ class Nmpc {
   std::array<Vp, N + 1> p_;               ///< stage parameters
   std::array<Vx, N + 1> lbx_, ubx_;       ///< state bounds per stage
   std::array<Vu, N> lbu_, ubu_;           ///< input bounds per stage
-  VecN<Scalar, Qp::nv> lam_x_;            ///< multipliers of the variable bounds (flat)
-  VecN<Scalar, Qp::na> lam_a_;            ///< multipliers of the QP rows (flat)
   Qp qp_;                                 ///< the QP of the current linearisation
   QpSolver solver_;                       ///< its solver (points to qp_)
   Info info_{};                           ///< figures of the last call
