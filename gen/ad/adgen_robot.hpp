@@ -13,6 +13,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -23,9 +24,15 @@ namespace arbor::adgen {
 /// Statistics of one generated function (reported in the header and on stdout).
 struct Stats {
   long primal_ops = 0, forward_ops = 0, reverse_ops = 0, jacobian_ops = 0, hessian_ops = 0;
+  long direct_ops = 0;  ///< FD: the traced function's own Jacobian (when an alternative was tried)
   const char* mode = "";
   const char* hessian_mode = "";
 };
+
+/// Input value k of the tracing point (the same for every traced function).
+inline double trace_point(int k) {
+  return 0.3 + 0.37 * k - 0.05 * (k % 5) * k;
+}
 
 /// The Jacobian of outs w.r.t. ins, forward or reverse, whichever has fewer live operations
 /// together with the values `keep` (on a copy of g: the loser's nodes are dropped).
@@ -59,9 +66,12 @@ inline std::vector<int> best_jacobian(Graph& g, const std::vector<int>& outs,
 /// Emits GeneratedCode<Function> with jacobian(x, y, J) (and, if hessian_code is given,
 /// GeneratedHessian<Function> with hessian(x, lambda, y, H) into it) for a function traced by
 /// `trace(xs, ys)` with nin inputs and nout outputs.
-template <class Trace>
+/// `alternative` (optional) emits another body of jacobian() into its argument and returns its
+/// operations; it replaces the traced function's Jacobian when it needs fewer.
+template <class Trace, class Alternative = std::nullptr_t>
 std::string generate_function(const std::string& function, int nin, int nout,
-                              std::string* hessian_code, Trace&& trace, Stats& st) {
+                              std::string* hessian_code, Trace&& trace, Stats& st,
+                              Alternative&& alternative = nullptr) {
   const bool hessian = hessian_code != nullptr;
   std::string code;
   std::string body;
@@ -73,7 +83,7 @@ std::string generate_function(const std::string& function, int nin, int nout,
     ins.assign(nin, 0);
     y.assign(nout, Sym());
     for (int k = 0; k < nin; ++k) {
-      ins[k] = g.input(k, 0.3 + 0.37 * k - 0.05 * (k % 5) * k);
+      ins[k] = g.input(k, trace_point(k));
       x[k] = Sym::node(ins[k]);
     }
     trace(x, y);
@@ -94,6 +104,16 @@ std::string generate_function(const std::string& function, int nin, int nout,
     st.primal_ops = count_ops(g, outs);
     const auto J = best_jacobian(g, outs, ins, outs, st.forward_ops, st.reverse_ops, st.mode);
     st.jacobian_ops = emit_function(body, g, "jacobian", {{"x", nin}}, {{"y", outs}, {"J", J}});
+    if constexpr (!std::is_same_v<std::remove_cvref_t<Alternative>, std::nullptr_t>) {
+      std::string other;
+      const long ops = alternative(other);
+      st.direct_ops = st.jacobian_ops;
+      if (ops > 0 && ops < st.jacobian_ops) {
+        body = std::move(other);
+        st.jacobian_ops = ops;
+        st.mode = "implicit";
+      }
+    }
   }
   if (hessian) {
     Graph g;
@@ -121,7 +141,10 @@ std::string generate_function(const std::string& function, int nin, int nout,
   code += "  static constexpr bool available = true;\n";
   code += "  /// Operations of the traced function (live) and of jacobian() (" +
           std::string(st.mode) + " mode; forward " + std::to_string(st.forward_ops) + ", reverse " +
-          std::to_string(st.reverse_ops) + ").\n";
+          std::to_string(st.reverse_ops) +
+          (st.direct_ops > 0 ? ", the traced function's best " + std::to_string(st.direct_ops)
+                             : std::string()) +
+          ").\n";
   code += "  static constexpr long primal_ops = " + std::to_string(st.primal_ops) + ";\n";
   code += "  static constexpr long jacobian_ops = " + std::to_string(st.jacobian_ops) + ";\n";
   code += body + "};\n\n";
@@ -135,6 +158,113 @@ std::string generate_function(const std::string& function, int nin, int nout,
     *hessian_code += hbody + "};\n\n";
   }
   return code;
+}
+
+/// FD's Jacobian through ID (implicit function theorem, the analytical route's identity):
+/// ddq = aba(q, v, tau) by its value code (`fd_value`), then J_ID = d rnea / d(q, v, a) at
+/// (q, v, ddq) by the cheaper mode, and d ddq / d(q, v, tau) = M^-1 [-J_q, -J_v, I] with
+/// M = J_a by a straight-line L' D L factorisation along the tree (Featherstone's LTDL: no fill-in,
+/// no square roots) and its solves (`jacobian_at`). Emits both and jacobian(x, y, J) calling them;
+/// returns their operations (0 if R has multi-DoF joints: not handled).
+template <class R>
+long fd_jacobian_through_id(std::string& body) {
+  constexpr int n = R::nv;
+  if constexpr (R::nb != R::nv) {
+    return 0;
+  } else {
+    auto inputs = [](Graph& g, int count, int first) {
+      std::vector<Sym> x(static_cast<std::size_t>(count));
+      for (int k = 0; k < count; ++k)
+        x[std::size_t(k)] = Sym::node(g.input(first + k, trace_point(first + k)));
+      return x;
+    };
+    // value
+    Graph gv;
+    current = &gv;
+    const auto xv = inputs(gv, 3 * n, 0);
+    std::vector<int> ddq(n);
+    {
+      VecN<Sym, n> q, v, tau;
+      for (int k = 0; k < n; ++k) {
+        q[k] = xv[std::size_t(k)];
+        v[k] = xv[std::size_t(n + k)];
+        tau[k] = xv[std::size_t(2 * n + k)];
+      }
+      auto d = std::make_unique<Data<R, Sym>>();
+      const auto& r = aba<R>(*d, q, v, tau);
+      for (int i = 0; i < n; ++i)
+        ddq[std::size_t(i)] = r[i].id();
+    }
+    if (gv.value_branch)
+      return 0;
+    long ops = emit_function(body, gv, "fd_value", {{"x", 3 * n}}, {{"y", ddq}});
+    // J_ID at (q, v, a), a the inputs 3n..4n-1 (bound to ddq by jacobian())
+    Graph g;
+    current = &g;
+    const auto x = inputs(g, 4 * n, 0);
+    std::vector<int> ins, tau_ids(n);
+    for (int k = 0; k < 4 * n; ++k)
+      if (k < 2 * n || k >= 3 * n)
+        ins.push_back(x[std::size_t(k)].id());
+    {
+      VecN<Sym, n> q, v, a;
+      for (int k = 0; k < n; ++k) {
+        q[k] = x[std::size_t(k)];
+        v[k] = x[std::size_t(n + k)];
+        a[k] = x[std::size_t(3 * n + k)];
+      }
+      auto d = std::make_unique<Data<R, Sym>>();
+      const auto& t = rnea<R>(*d, q, v, a);
+      for (int i = 0; i < n; ++i)
+        tau_ids[std::size_t(i)] = t[i].id();
+    }
+    if (g.value_branch)
+      return 0;
+    long f = 0, r = 0;
+    const char* mode = "";
+    const auto J = best_jacobian(g, tau_ids, ins, {}, f, r, mode);  // n x 3n, column major
+    auto Jid = [&](int row, int col) { return Sym::node(J[std::size_t(col * n + row)]); };
+    // H = M, factorised in place: M = L' D L (L unit lower, nonzero only at (k, ancestor of k))
+    std::vector<Sym> H(std::size_t(n * n));
+    auto h = [&](int i, int j) -> Sym& { return H[std::size_t(i * n + j)]; };
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        h(i, j) = Jid(i, 2 * n + j);
+    for (int k = n - 1; k >= 0; --k) {
+      const Sym inv = Sym(1.0) / h(k, k);
+      for (int i = R::parent[k]; i >= 0; i = R::parent[i]) {
+        const Sym a = h(k, i) * inv;
+        for (int j = i; j >= 0; j = R::parent[j])
+          h(i, j) -= a * h(k, j);
+        h(k, i) = a;
+      }
+    }
+    std::vector<Sym> invd(n);
+    for (int k = 0; k < n; ++k)
+      invd[std::size_t(k)] = Sym(1.0) / h(k, k);
+    // columns of M^-1 [-J_q, -J_v, I]
+    std::vector<int> out(std::size_t(3 * n * n));
+    std::vector<Sym> b(n);
+    for (int c = 0; c < 3 * n; ++c) {
+      for (int i = 0; i < n; ++i)
+        b[std::size_t(i)] = c < 2 * n ? -Jid(i, c) : Sym(c - 2 * n == i ? 1.0 : 0.0);
+      for (int k = n - 1; k >= 0; --k)  // L' y = b
+        for (int i = R::parent[k]; i >= 0; i = R::parent[i])
+          b[std::size_t(i)] -= h(k, i) * b[std::size_t(k)];
+      for (int k = 0; k < n; ++k)  // z = D^-1 y
+        b[std::size_t(k)] *= invd[std::size_t(k)];
+      for (int k = 0; k < n; ++k)  // L x = z
+        for (int i = R::parent[k]; i >= 0; i = R::parent[i])
+          b[std::size_t(k)] -= h(k, i) * b[std::size_t(i)];
+      for (int i = 0; i < n; ++i)
+        out[std::size_t(c * n + i)] = b[std::size_t(i)].id();
+    }
+    ops += emit_function(body, g, "jacobian_at", {{"x", 3 * n}, {"a", n}}, {{"J", out}});
+    body += "  /// y = FD(x), J its Jacobian through ID (fd_value, then jacobian_at(x, y)).\n";
+    body += "  template <class S>\n  static void jacobian(const S* x, S* y, S* J) {\n";
+    body += "    fd_value(x, y);\n    jacobian_at(x, y, J);\n  }\n";
+    return ops;
+  }
 }
 
 template <class R, int F>
@@ -182,7 +312,7 @@ int generate(int argc, char** argv, const std::string& robot, const std::string&
   std::vector<Stats> stats(2);
   std::string code;
   // FD (q, v, tau) -> qdd and ID (q, v, a) -> tau: the same shape, x = (q, v, u).
-  auto dynamics = [&](const char* name, auto algorithm, Stats& st) {
+  auto dynamics = [&](const char* name, auto algorithm, Stats& st, auto&& alternative) {
     code += generate_function(
         std::string(name) + "<" + robot + ">", 3 * nv, nv, h,
         [&](const std::vector<Sym>& x, std::vector<Sym>& y) {
@@ -193,18 +323,18 @@ int generate(int argc, char** argv, const std::string& robot, const std::string&
           for (int i = 0; i < nv; ++i)
             y[i] = r[i];
         },
-        st);
+        st, alternative);
   };
   dynamics(
       "ForwardDynamics", [](auto& d, const auto& q, const auto& v, const auto& u) -> const auto& {
         return aba<R>(d, q, v, u);
       },
-      stats[0]);
+      stats[0], [](std::string& body) { return fd_jacobian_through_id<R>(body); });
   dynamics(
       "InverseDynamics", [](auto& d, const auto& q, const auto& v, const auto& u) -> const auto& {
         return rnea<R>(d, q, v, u);
       },
-      stats[1]);
+      stats[1], nullptr);
   [&]<int... F>(std::integer_sequence<int, F...>) {
     (frame_function<R, F>(code, robot, stats), ...);
   }
