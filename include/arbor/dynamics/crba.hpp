@@ -25,8 +25,11 @@ ARBOR_INLINE void crba_up(Data<R, Scalar>& d, const Force<Scalar>& F) {
   }
 }
 
-/// Below this many DoF, crba carries each column up the tree on its own (fewer instructions for
-/// short chains); from it on, whole blocks of columns at once (vectorized across columns).
+/// When the largest tree below one root joint has fewer bodies than this, crba carries each
+/// column up the tree on its own (fewer instructions for short chains); from it on, whole blocks
+/// of columns at once (vectorized across columns). Judged by the largest tree, not by nv: the
+/// YuMi's two 7-joint arms (nv = 14) take 4966 instructions column by column against 6788 in
+/// blocks; the Atlas's 18-body torso tree stays blocked (15389 against 17125), bench/RESULTS.md.
 inline constexpr int kCrbaBlockFrom = 12;
 
 /// Ycrb S for a rigid (composite) inertia and the motion subspace of body i.
@@ -86,7 +89,9 @@ ARBOR_INLINE void crba_columns(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q
 }
 
 /// crba for larger trees: the forces Ycrb_j S_j of the subtree of i are carried to each
-/// ancestor as one row-major block of columns (data.Fminv), one sparse transform for all.
+/// ancestor as one row-major block of columns (data.Fminv), one sparse transform for all. Bodies
+/// of the forest's small trees (below kCrbaBlockFrom bodies: the Atlas's legs beside its torso)
+/// carry their own column as crba_columns does.
 template <class R, class Scalar, class Q>
 ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
   constexpr int n = R::nv;
@@ -95,12 +100,26 @@ ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q)
     constexpr int i = decltype(I)::value;
     d.Ycrb[i] = spatial::BodyOps<R, i, Scalar>::inertia();
     constexpr int last = model::subtree_last<R>(i);
-    d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
+    if constexpr (model::root_tree_size<R>(i) >= kCrbaBlockFrom)
+      d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = model::subtree_last<R>(i) - i + 1;
+    if constexpr (model::root_tree_size<R>(i) < kCrbaBlockFrom) {
+      // a small tree: this column up the ancestors (M(i, j), j in i's subtree, came from j's)
+      const Force<Scalar> F = detail::inertia_S<B>(d.Ycrb[i]);
+      d.M(i, i) = B::ST(F);
+      detail::crba_up<R, i, i>(d, F);
+      if constexpr (i + L < n) {
+        d.M.row(i).template tail<n - i - L>().setZero();
+        d.M.col(i).template tail<n - i - L>().setZero();
+      }
+      if constexpr (B::parent >= 0)
+        d.Ycrb[B::parent] += B::inertia_to_parent(d.joint[i], d.Ycrb[i]);
+      return;
+    }
     using Row = Eigen::Matrix<Scalar, 1, L>;
     using Tri = typename B::template Tri<Row>;
     auto blk = d.Fminv[i].template middleCols<L>(i);
@@ -136,7 +155,7 @@ ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q)
 template <Robot R, class Scalar, class Q>
 const typename Data<R, Scalar>::Matrix& crba(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
   static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
-  if constexpr (R::nv < detail::kCrbaBlockFrom)
+  if constexpr (model::largest_root_tree<R>() < detail::kCrbaBlockFrom)
     detail::crba_columns(d, q);
   else
     detail::crba_blocks(d, q);

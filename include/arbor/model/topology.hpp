@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 
 namespace arbor::model {
 
@@ -64,6 +65,30 @@ constexpr bool subtree_contiguous(int i) {
       return false;
   }
   return true;
+}
+
+/// Bodies in the tree of body i: the bodies below the same root joint as i.
+template <class R>
+constexpr int root_tree_size(int i) {
+  auto root = [](int j) {
+    while (R::parent[j] >= 0)
+      j = R::parent[j];
+    return j;
+  };
+  int count = 0;
+  for (int j = 0; j < R::nb; ++j)
+    count += root(j) == root(i) ? 1 : 0;
+  return count;
+}
+
+/// Bodies in the largest tree of the forest (the bodies below one root joint): the depth of work
+/// an algorithm that carries a column up the tree can face (YuMi: 7 of 14, two arms; Atlas: 18).
+template <class R>
+constexpr int largest_root_tree() {
+  int largest = 0;
+  for (int i = 0; i < R::nb; ++i)
+    largest = root_tree_size<R>(i) > largest ? root_tree_size<R>(i) : largest;
+  return largest;
 }
 
 }  // namespace arbor::model
