@@ -178,23 +178,29 @@ long fd_jacobian_through_id(std::string& body) {
         x[std::size_t(k)] = Sym::node(g.input(first + k, trace_point(first + k)));
       return x;
     };
+    // the output ids of algorithm(q, v, u) traced with q, v = x[0, 2n) and u = x[u0, u0 + n)
+    auto trace = [&](const std::vector<Sym>& x, int u0, auto algorithm) {
+      VecN<Sym, n> q, v, u;
+      for (int k = 0; k < n; ++k) {
+        q[k] = x[std::size_t(k)];
+        v[k] = x[std::size_t(n + k)];
+        u[k] = x[std::size_t(u0 + k)];
+      }
+      auto d = std::make_unique<Data<R, Sym>>();
+      const auto& y = algorithm(*d, q, v, u);
+      std::vector<int> ids(n);
+      for (int i = 0; i < n; ++i)
+        ids[std::size_t(i)] = y[i].id();
+      return ids;
+    };
     // value
     Graph gv;
     current = &gv;
-    const auto xv = inputs(gv, 3 * n, 0);
-    std::vector<int> ddq(n);
-    {
-      VecN<Sym, n> q, v, tau;
-      for (int k = 0; k < n; ++k) {
-        q[k] = xv[std::size_t(k)];
-        v[k] = xv[std::size_t(n + k)];
-        tau[k] = xv[std::size_t(2 * n + k)];
-      }
-      auto d = std::make_unique<Data<R, Sym>>();
-      const auto& r = aba<R>(*d, q, v, tau);
-      for (int i = 0; i < n; ++i)
-        ddq[std::size_t(i)] = r[i].id();
-    }
+    const auto ddq = trace(
+        inputs(gv, 3 * n, 0), 2 * n,
+        [](auto& d, const auto& q, const auto& v, const auto& tau) -> const auto& {
+          return aba<R>(d, q, v, tau);
+        });
     if (gv.value_branch)
       return 0;
     long ops = emit_function(body, gv, "fd_value", {{"x", 3 * n}}, {{"y", ddq}});
@@ -202,22 +208,14 @@ long fd_jacobian_through_id(std::string& body) {
     Graph g;
     current = &g;
     const auto x = inputs(g, 4 * n, 0);
-    std::vector<int> ins, tau_ids(n);
+    std::vector<int> ins;
     for (int k = 0; k < 4 * n; ++k)
       if (k < 2 * n || k >= 3 * n)
         ins.push_back(x[std::size_t(k)].id());
-    {
-      VecN<Sym, n> q, v, a;
-      for (int k = 0; k < n; ++k) {
-        q[k] = x[std::size_t(k)];
-        v[k] = x[std::size_t(n + k)];
-        a[k] = x[std::size_t(3 * n + k)];
-      }
-      auto d = std::make_unique<Data<R, Sym>>();
-      const auto& t = rnea<R>(*d, q, v, a);
-      for (int i = 0; i < n; ++i)
-        tau_ids[std::size_t(i)] = t[i].id();
-    }
+    const auto tau_ids = trace(
+        x, 3 * n, [](auto& d, const auto& q, const auto& v, const auto& a) -> const auto& {
+          return rnea<R>(d, q, v, a);
+        });
     if (g.value_branch)
       return 0;
     long f = 0, r = 0;
