@@ -44,16 +44,20 @@ struct Dual {
   static_assert(N >= 1, "a Dual needs at least one direction");
   using Value = T;                      ///< type of the value and of each derivative
   static constexpr int directions = N;  ///< number of directions
-  T v{};                                ///< value
-  T d[N]{};                             ///< derivative along each direction
+  T v;                                  ///< value
+  T d[N];                               ///< derivative along each direction
 
+  /// Uninitialised, like a double (`Dual x;`); `Dual x{}` and `Dual()` are zero (value
+  /// initialisation). Not zeroing by default keeps the expression layer's node values (arrays of
+  /// duals that are written element by element) from being cleared first.
   constexpr Dual() = default;
   /// A constant (all derivatives zero).
-  constexpr Dual(const T& x) : v(x) {}  // NOLINT(google-explicit-constructor): scalar semantics
+  constexpr Dual(const T& x)
+      : v(x), d{} {}  // NOLINT(google-explicit-constructor): scalar semantics
   /// A constant from a plain number (for nested duals: Dual<Dual<double, N>, M>(0.5)).
   template <Arithmetic A>
   requires(!std::is_same_v<A, T>) constexpr Dual(A x)
-      : v(T(x)) {}  // NOLINT(google-explicit-constructor)
+      : v(T(x)), d{} {}  // NOLINT(google-explicit-constructor)
 
   /// A variable: value x, derivative 1 along direction k and 0 along the others.
   static constexpr Dual variable(const T& x, int k) {
