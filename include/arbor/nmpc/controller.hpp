@@ -41,7 +41,6 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <cstring>
 
 #include "arbor/core/config.hpp"
 #include "arbor/nmpc/kkt.hpp"
@@ -416,7 +415,7 @@ class Nmpc {
   /// QP update (setup when the settings changed) and warm-started solve; the QP's status.
   qp::QpStatus solve_prepared_qp() {
     qp::QpStatus st;
-    if (!qp_setup_ || std::memcmp(&applied_qp_, &settings_.qp, sizeof applied_qp_) != 0) {
+    if (!qp_setup_ || !(applied_qp_ == settings_.qp)) {
       st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
       applied_qp_ = settings_.qp;
       qp_setup_ = st == qp::QpStatus::accepted;

@@ -52,6 +52,8 @@ struct QpSettings<double> {
   double reg_primal_max = 1e-3;   ///< delta is raised tenfold up to this on round-off failure
   double tol_certificate = 1e-6;  ///< relative tolerance of infeasibility/unboundedness tests
   double psd_tolerance = 1e-10;   ///< relative eigenvalue slack of the convexity check
+  /// Field by field (not the padding bytes).
+  friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };
 
 /// Single-precision defaults (tolerances scaled for float's 24-bit mantissa).
@@ -66,6 +68,8 @@ struct QpSettings<float> {
   float reg_primal_max = 1e-1f;   ///< delta is raised tenfold up to this on round-off failure
   float tol_certificate = 1e-3f;  ///< relative tolerance of infeasibility/unboundedness tests
   float psd_tolerance = 1e-5f;    ///< relative eigenvalue slack of the convexity check
+  /// Field by field (not the padding bytes).
+  friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };
 
 }  // namespace arbor::qp
