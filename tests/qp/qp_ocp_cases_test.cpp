@@ -24,6 +24,7 @@ using arbor::qp::OcpQp;
 using arbor::qp::QpStatus;
 using arbor::qp::to_string;
 using arbor::qp::test::OcpQpSolver;
+using arbor::qp::test::PenalisedOcpQpSolver;
 namespace t = arbor::qp::test;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
@@ -258,6 +259,51 @@ TEST(QpOcpCases, IterationCapReturnsBestIterate) {
   const t::Kkt k = t::kkt_residuals(t::to_ref(qp), solver.x(), solver.lam_x(), solver.lam_a());
   EXPECT_NEAR(k.primal, std::max(0.0, solver.info().primal_residual), 1e-9);
   EXPECT_NEAR(k.dual, solver.info().dual_residual, 1e-9);
+}
+
+TEST(QpOcpCases, ResidualsOfLongSolvesBelongToTheReturnedPoint) {
+  // Cold solves of many iterations: the active-set loop updates A x, H x and A' lam after
+  // blocked steps instead of recomputing them (active_set.hpp); the status and the residuals it
+  // reports must still be those of the returned point, computed from the data.
+  using Qp = OcpQp<double, 12, 4, 2, 2, 1>;
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  static PenalisedOcpQpSolver<Qp> penalised;
+  t::RandomOcpOptions opt;
+  opt.bound_width = 0.2;
+  opt.cost_scale = 30;
+  int longest = 0;
+  for (unsigned seed = 0; seed < 8; ++seed) {
+    std::mt19937 rng(300 + seed);
+    t::random_ocp(qp, rng, opt);
+    const t::RefQp ref = t::to_ref(qp);
+    const auto check = [&](const auto& s, QpStatus su, QpStatus st) {
+      SCOPED_TRACE(seed);
+      ASSERT_EQ(su, QpStatus::accepted);
+      ASSERT_EQ(st, QpStatus::solved);
+      const t::Kkt k = t::kkt_residuals(ref, s.x(), s.lam_x(), s.lam_a());
+      EXPECT_LE(k.primal, 1e-7 * k.pscale);
+      EXPECT_LE(k.dual, 1e-7 * k.dscale);
+      EXPECT_NEAR(k.primal, std::max(0.0, s.info().primal_residual), 1e-12 * k.pscale);
+      EXPECT_NEAR(k.dual, s.info().dual_residual, 1e-12 * k.dscale);
+      EXPECT_NEAR(k.complementarity, s.info().complementarity, 1e-12 * k.pscale);
+      EXPECT_NEAR(k.objective, s.info().objective, 1e-12 * (1 + std::abs(k.objective)));
+      longest = std::max(longest, s.info().iterations);
+    };
+    QpStatus su, st, pu, pt;
+    {
+      arbor::test::NoAllocScope guard;
+      su = solver.setup(qp);
+      solver.cold_start();
+      st = solver.solve();
+      pu = penalised.setup(qp);
+      penalised.cold_start();
+      pt = penalised.solve();
+    }
+    check(solver, su, st);
+    check(penalised, pu, pt);
+  }
+  EXPECT_GT(longest, 20);  // long enough for updated products and their periodic refresh
 }
 
 TEST(QpOcpCases, WarmStartFromPerturbedProblemNeedsFarFewerIterations) {

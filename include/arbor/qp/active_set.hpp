@@ -77,6 +77,14 @@
 // Memory of this part: about 12 NV + 9 NA scalars and NV + NA bytes. Cost per iteration: O(NV +
 // NA) here plus one backend solve (and one product with A' while the iterate is infeasible, for
 // the certificate), and a (partial) refactorization after a working-set change.
+// Products: evaluate() needs A x, H x and H x + g + lam_x + A' lam. After a step that a
+// constraint blocked (the iteration goes on: the blocking constraint enters or leaves next) they
+// are updated instead of recomputed, A x += tau A dx with the step's A dx, H x += tau H dx and
+// A' times the multipliers' change: one product with A fewer per such iteration (a product with H
+// and one with A' are left). They are computed from scratch at the start, after a full unblocked
+// step (the next evaluate() may end the loop), every kExactEvery steps, and whenever the loop
+// would end on updated ones (the test is repeated on products from scratch): every status and
+// every residual reported belongs to the returned point as computed from the data.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
 // the steps below in this order, each a member function: begin() once, then per iteration
 // evaluate(), converged_or_stopped(), change_working_set(), refactorize(), compute_step(),
@@ -130,7 +138,9 @@ class ActiveSetCore {
     begin(be, s);
     QpStatus status = QpStatus::iteration_limit;
     for (int it = 0;; ++it) {
-      evaluate(be);
+      evaluate(be, exact_next_);
+      if (!exact_ && may_stop(s, it))
+        evaluate(be, true);  // a loop that ends judges (and reports) products from scratch
       if (converged_or_stopped(s, it, status))
         break;
       info.iterations = it + 1;
@@ -159,6 +169,8 @@ class ActiveSetCore {
   static constexpr int kStallIterations = 10;
   /// Singular-step drops remembered by the anti-cycling rule.
   static constexpr int kDropMemory = 8;
+  /// Iterations with incrementally updated products before they are recomputed from scratch.
+  static constexpr int kExactEvery = 10;
 
   Scalar lb(int i) const { return i < NV ? lbx(i) : lba(i - NV); }
   Scalar ub(int i) const { return i < NV ? ubx(i) : uba(i - NV); }
@@ -197,9 +209,15 @@ class ActiveSetCore {
   void begin(Backend& be, const QpSettings<Scalar>& s);
   /// Working set from the multipliers' signs; zeroes multipliers that cannot be active.
   void working_set_from_multipliers();
-  /// z = A x, hx = H x, r = H x + g + A' lam and the scalar residuals below.
+  /// The scalar residuals below from z = A x, hx = H x and r = H x + g + lam_x + A' lam: with
+  /// exact, these products are computed from scratch first, else take_step() updated them.
   template <typename Backend>
-  void evaluate(const Backend& be);
+  void evaluate(const Backend& be, bool exact = true);
+  /// True when converged_or_stopped() might end the loop (a conservative test, no side effects).
+  bool may_stop(const QpSettings<Scalar>& s, int it) const {
+    return !std::isfinite(pr_) || !std::isfinite(du_) || merit_of(s) <= 1 || unbounded_candidate_ ||
+           certificate_count_ >= 2 || stall_count_ + 1 >= kStallIterations || it >= s.max_iter;
+  }
   /// Keeps the best iterate; true (with the status) when the loop must end here.
   bool converged_or_stopped(const QpSettings<Scalar>& s, int it, QpStatus& status);
   /// Makes at most one working-set change; true when one was made.
@@ -265,7 +283,10 @@ class ActiveSetCore {
   /// First iteration of a warm start (the multipliers named an inequality): no constraint is
   /// added before one step on the working set they name
   bool warm_first_ = false;
-  Scalar pr_prev_ = 0;  ///< primal error of the previous iteration
+  Scalar pr_prev_ = 0;      ///< primal error of the previous iteration
+  bool exact_ = true;       ///< the last evaluate() computed the products from scratch
+  bool exact_next_ = true;  ///< the next evaluate() computes them from scratch
+  int since_exact_ = 0;     ///< steps since the products were last computed from scratch
 
   VecA za_;          ///< A x
   VecV hx_;          ///< H x
@@ -325,6 +346,8 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   refining_ = false;
   pr_prev_ = inf();
   warm_first_ = false;
+  exact_next_ = true;
+  since_exact_ = 0;
   for (int i = 0; i < nz && !warm_first_; ++i)
     warm_first_ = one_sided(i);
 }
@@ -348,11 +371,15 @@ void ActiveSetCore<Scalar, NV, NA>::working_set_from_multipliers() {
 
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
-void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be) {
-  be.cons_mul(x, za_);
-  be.hess_mul(x, hx_);
-  be.cons_tmul(lam_a, r_);
-  r_ += hx_ + g + lam_x;
+void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
+  if (exact) {
+    be.cons_mul(x, za_);
+    be.hess_mul(x, hx_);
+    be.cons_tmul(lam_a, r_);
+    r_ += hx_ + g + lam_x;
+    since_exact_ = 0;
+  }
+  exact_ = exact;
   du_ = r_.size() > 0 ? r_.cwiseAbs().maxCoeff() : Scalar(0);
   if (!std::isfinite(du_))
     du_ = inf();
@@ -496,10 +523,18 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
   if (change < 0 || ws[change] == change_ws || ws[change] == State::equality)
     return false;
   ws[change] = change_ws;
-  const bool had_multiplier = lam(change) != 0;
+  const Scalar m = lam(change);
   lam(change) = 0;
-  if (had_multiplier)
-    evaluate(be);  // r must not keep the dropped multiplier
+  if (m != 0) {  // r must not keep the dropped multiplier: its column times m comes off
+    if (change < NV) {
+      r_(change) -= m;
+    } else {
+      tmpa_.setZero();
+      tmpa_(change - NV) = m;
+      be.cons_tmul(tmpa_, tmpv_);
+      r_ -= tmpv_;
+    }
+  }
   be.mark_changed(change);
   refactor_ = true;
   ++info.active_set_changes;
@@ -674,15 +709,43 @@ void ActiveSetCore<Scalar, NV, NA>::take_step(const Backend& be, const QpSetting
                                               Scalar tau, Scalar tau_dual, bool changed) {
   refining_ = !changed;
   pr_prev_ = pr_;
-  x += tau * dx_;
-  lam_x += tau_dual * dlam_x_;
-  lam_a += tau_dual * dlam_a_;
-  if (pending_ >= 0 && pending_ws_ == State::inactive)
-    lam(pending_) = 0;
   if (tau == Scalar(1) && delta_ * dx_.cwiseAbs().maxCoeff() > s.tol_dual &&
       unboundedness_certificate(be, s)) {
     unbounded_candidate_ = true;  // confirmed if the next iterate is primal feasible
   }
+  // The products of the next evaluate(): from scratch after a full step that nothing blocked
+  // (it lands on the working set's solution, so the next evaluate() may well end the loop, which
+  // then needs them from scratch anyway) and every kExactEvery steps (round-off of the updates
+  // does not accumulate); else updated here: A x += tau A dx (the step has A dx), H x += tau H dx,
+  // r += tau H dx + the multipliers' change (the dropped one's exactly) and A' times it.
+  ++since_exact_;
+  exact_next_ = since_exact_ >= kExactEvery || (tau == Scalar(1) && pending_ < 0);
+  const int drop = pending_ >= 0 && pending_ws_ == State::inactive ? pending_ : -1;
+  x += tau * dx_;
+  if (exact_next_) {
+    lam_x += tau_dual * dlam_x_;
+    lam_a += tau_dual * dlam_a_;
+    if (drop >= 0)
+      lam(drop) = 0;
+    return;
+  }
+  if (tau != Scalar(0)) {
+    za_ += tau * dza_;
+    be.hess_mul(dx_, tmpv_);
+    hx_ += tau * tmpv_;
+    r_ += tau * tmpv_;
+  }
+  tmpv_ = tau_dual * dlam_x_;
+  tmpa_ = tau_dual * dlam_a_;
+  if (drop >= 0 && drop < NV)
+    tmpv_(drop) = -lam_x(drop);
+  else if (drop >= NV)
+    tmpa_(drop - NV) = -lam_a(drop - NV);
+  lam_x += tmpv_;  // (the dropped multiplier becomes m - m = 0 exactly)
+  lam_a += tmpa_;
+  r_ += tmpv_;
+  be.cons_tmul(tmpa_, tmpv_);
+  r_ += tmpv_;
 }
 
 template <typename Scalar, int NV, int NA>
