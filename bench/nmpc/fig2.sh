@@ -38,6 +38,9 @@ if [[ ${TIMING:-1} != 0 ]]; then
   echo "== closed loops: 6 variants x 3 modes, $samples samples each"
   "$build/bench/nmpc/arbor_bench_fig2" --samples "$samples" --csv "$work/fig2.csv" \
     --md "$work/tables.md"
+  # the machine's load when the timing ended (fig2.py states it; a later rerun of fig2.py alone
+  # must not report its own moment's load)
+  echo "$(date -u '+%Y-%m-%d %H:%M UTC') $(cut -d' ' -f1-3 /proc/loadavg)" >"$work/timing_load.txt"
 else
   samples=$(awk -F, 'NR > 1 && $5 + 1 > n {n = $5 + 1} END {print n}' "$work/fig2.csv")
 fi
