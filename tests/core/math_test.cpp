@@ -2,7 +2,8 @@
 // polynomials, no library call) against glibc's sin and cos, in units in the last place of the
 // library's result: random arguments over the fast path's range |x| <= 1e5 (uniform and
 // log-uniform), arguments next to multiples of pi/2 (where the reduction cancels), signed zeros,
-// the fallback beyond 1e5 and non-finite input; and sin^2 + cos^2 = 1.
+// the fallback beyond 1e5 and non-finite input; arbor::sin and arbor::cos alone equal to it; and
+// sin^2 + cos^2 = 1.
 #include <gtest/gtest.h>
 
 #include <arbor/core/math.hpp>
@@ -95,6 +96,18 @@ TEST(Sincos, SignedZerosBoundaryFallbackAndNonFinite) {
     arbor::sincos(x, s, c);
     EXPECT_TRUE(std::isnan(s)) << x;
     EXPECT_TRUE(std::isnan(c)) << x;
+  }
+}
+
+TEST(Sincos, SinAndCosAloneGiveTheSameValues) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> d(-2e5, 2e5);
+  for (int i = 0; i < 10000; ++i) {
+    const double x = d(rng);
+    double s, c;
+    arbor::sincos(x, s, c);
+    EXPECT_EQ(arbor::sin(x), s) << x;
+    EXPECT_EQ(arbor::cos(x), c) << x;
   }
 }
 

@@ -26,22 +26,6 @@ inline auto adl_sqrt(const T& x) -> decltype(sqrt(x)) {
 }
 }  // namespace math_detail
 
-/// Sine; built-in floating types use std::sin, others the overload found by ADL.
-template <class T>
-inline T sin(const T& x) {
-  return T(math_detail::adl_sin(x));
-}
-/// Cosine; built-in floating types use std::cos, others the overload found by ADL.
-template <class T>
-inline T cos(const T& x) {
-  return T(math_detail::adl_cos(x));
-}
-/// Square root; built-in floating types use std::sqrt, others the overload found by ADL.
-template <class T>
-inline T sqrt(const T& x) {
-  return T(math_detail::adl_sqrt(x));
-}
-
 namespace detail {
 
 /// 1 / n! correctly rounded (n! is exact in double up to 18!).
@@ -123,9 +107,38 @@ inline void sincos_double(double x, double& s, double& c) {
 
 }  // namespace detail
 
+/// Sine; double uses detail::sincos_double (the compiler shares its work with a cos of the same
+/// argument), float std::sin, others the overload found by ADL.
+template <class T>
+inline T sin(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    double s, c;
+    detail::sincos_double(x, s, c);
+    return s;
+  } else {
+    return T(math_detail::adl_sin(x));
+  }
+}
+/// Cosine; double uses detail::sincos_double, float std::cos, others the overload found by ADL.
+template <class T>
+inline T cos(const T& x) {
+  if constexpr (std::is_same_v<T, double>) {
+    double s, c;
+    detail::sincos_double(x, s, c);
+    return c;
+  } else {
+    return T(math_detail::adl_cos(x));
+  }
+}
+/// Square root; built-in floating types use std::sqrt, others the overload found by ADL.
+template <class T>
+inline T sqrt(const T& x) {
+  return T(math_detail::adl_sqrt(x));
+}
+
 /// Sine and cosine of the same angle (one call site, so a scalar type may share work). A scalar
 /// type that can compute both at once provides `arbor_sincos(x, s, c)`, found by ADL; double uses
-/// detail::sincos_double (no library call), other built-in types std::sin and std::cos.
+/// detail::sincos_double (no library call), float std::sin and std::cos.
 template <class T>
 inline void sincos(const T& x, T& s, T& c) {
   if constexpr (std::is_same_v<T, double>) {
