@@ -415,7 +415,7 @@ class Nmpc {
   /// QP update (setup when the settings changed) and warm-started solve; the QP's status.
   qp::QpStatus solve_prepared_qp() {
     qp::QpStatus st;
-    if (!qp_setup_ || !(applied_qp_ == settings_.qp)) {
+    if (!qp_setup_ || applied_qp_ != settings_.qp) {
       st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
       applied_qp_ = settings_.qp;
       qp_setup_ = st == qp::QpStatus::accepted;
