@@ -26,7 +26,10 @@
 //   expr/blocks.hpp           segment, element, cat
 //   expr/constant_matrix.hpp  mul<K>(x), K{} * x: compile-time constant matrices
 //                             (spatial/constant.hpp's products), ConstMatrix, TransposedMatrix
-//   expr/boundaries.hpp       let, fn: subexpressions evaluated once (and the `auto` pitfall)
+//   expr/structure.hpp        (detail) the derivative directions each node depends on, and the
+//                             compressed duals fn bodies run at (structure-aware forward mode)
+//   expr/boundaries.hpp       let, fn, fn_dense: subexpressions evaluated once (and the `auto`
+//                             pitfall)
 //   expr/call.hpp             call<Tag>(f, args...): custom-derivative nodes (f a cheap handle)
 //   expr/evaluate.hpp         evaluate, jacobian, gradient, hessian, value_and_jacobian,
 //                             value_gradient_hessian
@@ -48,4 +51,5 @@
 #include "arbor/ad/expr/leaves.hpp"
 #include "arbor/ad/expr/reductions.hpp"
 #include "arbor/ad/expr/scalar.hpp"
+#include "arbor/ad/expr/structure.hpp"
 #include "arbor/ad/expr/values.hpp"

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "arbor/ad/expr/scalar.hpp"
+#include "arbor/ad/expr/structure.hpp"
 #include "arbor/ad/expr/values.hpp"
 
 namespace arbor::ocp {
@@ -26,8 +27,9 @@ template <class Parent, class V>
 struct StateEnv {
   using Scalar = typename Parent::Scalar;  ///< scalar type of the evaluation
   static constexpr bool seeded = false;    ///< argument 0 is not a seeded argument
-  const Parent& parent;                    ///< enclosing environment
-  const V& x;                              ///< the substituted state
+  static constexpr int levels = ad::detail::env_levels<Parent>();  ///< the parent's dual levels
+  const Parent& parent;                                            ///< enclosing environment
+  const V& x;                                                      ///< the substituted state
   /// First derivative direction of argument Id (as the parent's).
   template <int Id>
   static constexpr int offset() {

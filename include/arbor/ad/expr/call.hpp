@@ -41,23 +41,13 @@
 #include "arbor/ad/dual.hpp"
 #include "arbor/ad/expr/blocks.hpp"
 #include "arbor/ad/expr/leaves.hpp"
+#include "arbor/ad/expr/structure.hpp"
 #include "arbor/ad/expr/values.hpp"
 #include "arbor/spatial/fwd.hpp"
 
 namespace arbor::ad {
 
 namespace detail {
-/// Whether argument Id's outer-level derivatives in Env are its unit seeds (or zero, for a
-/// parameter): Env::unit_seeds<Id>() where the environment says so per argument, else
-/// Env::seeded.
-template <class Env, int Id>
-constexpr bool unit_seeds() {
-  if constexpr (requires { Env::template unit_seeds<Id>(); })
-    return Env::template unit_seeds<Id>();
-  else
-    return Env::seeded;
-}
-
 /// A part of a call node's input: a symbol or a segment of one (whose derivatives may be unit
 /// seeds, known at compile time), or anything else (general derivatives).
 template <class P>
@@ -272,5 +262,16 @@ auto call(const F& f, const A&... args) {
   using X = decltype(cat(args...));
   return CallExpr<Tag, F, X>{f, cat(args...)};
 }
+
+namespace detail {
+/// A call node depends on the directions of its input.
+template <class Tag, class F, class A>
+struct Deps<CallExpr<Tag, F, A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+}  // namespace detail
 
 }  // namespace arbor::ad

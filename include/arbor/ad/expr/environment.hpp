@@ -17,14 +17,16 @@
 
 namespace arbor::ad::detail {
 
-/// Environment of an evaluation: the argument values at scalar S (already seeded). When Seeded,
-/// the outermost dual level of S belongs to this evaluation and argument Id occupies directions
-/// Offsets[Id] .. Offsets[Id] + N - 1 (Offsets[Id] < 0: a parameter, zero derivatives).
-template <class S, bool Seeded, auto Offsets, class... V>
+/// Environment of an evaluation: the argument values at scalar S (already seeded). When Levels >
+/// 0, the Levels outermost dual levels of S belong to this evaluation (1: Jacobians, 2: Hessians,
+/// the same seeds at each) and argument Id occupies directions Offsets[Id] .. Offsets[Id] + N - 1
+/// (Offsets[Id] < 0: a parameter, zero derivatives).
+template <class S, int Levels, auto Offsets, class... V>
 struct RootEnv {
-  using Scalar = S;                       ///< scalar type of the evaluation
-  static constexpr bool seeded = Seeded;  ///< the outer dual level is this evaluation's
-  std::tuple<V...> args;                  ///< argument values, Values<S, N_i>
+  using Scalar = S;                           ///< scalar type of the evaluation
+  static constexpr bool seeded = Levels > 0;  ///< the outer dual level is this evaluation's
+  static constexpr int levels = Levels;       ///< dual levels seeded by this evaluation
+  std::tuple<V...> args;                      ///< argument values, Values<S, N_i>
   /// First derivative direction of argument Id (< 0: not differentiated).
   template <int Id>
   static constexpr int offset() {
@@ -34,7 +36,7 @@ struct RootEnv {
   /// offset<Id>() (zero for a parameter). Here: every argument of a seeded evaluation.
   template <int Id>
   static constexpr bool unit_seeds() {
-    return Seeded;
+    return seeded;
   }
   /// Value of argument Id.
   template <int Id>
@@ -148,10 +150,19 @@ Values<S, ArgTraits<A>::rows> make_arg(const A& a) {
   return r;
 }
 
+/// Number of dual levels S adds above T (S = Dual<...Dual<T, n>..., n>).
+template <class S, class T>
+constexpr int dual_levels_above() {
+  if constexpr (std::is_same_v<S, T>)
+    return 0;
+  else
+    return 1 + dual_levels_above<typename S::Value, T>();
+}
+
 /// The root environment of an evaluation at S of arguments of scalar T.
 template <class S, class T, bool Seeded, auto Offsets, std::size_t... I, class... A>
-RootEnv<S, Seeded, Offsets, Values<S, ArgTraits<A>::rows>...> make_env(std::index_sequence<I...>,
-                                                                       const A&... a) {
+RootEnv<S, Seeded ? dual_levels_above<S, T>() : 0, Offsets, Values<S, ArgTraits<A>::rows>...>
+make_env(std::index_sequence<I...>, const A&... a) {
   return {std::tuple<Values<S, ArgTraits<A>::rows>...>(make_arg<S, T, Offsets[I]>(a)...)};
 }
 

@@ -1,0 +1,339 @@
+// arbor: the derivative directions an expression node can depend on, known at compile time
+// (structure-aware forward mode), and the compressed scalars that carry only those directions.
+//
+// In a derivative evaluation at S = Dual<T, n> every argument element is seeded along its own
+// direction, so a node's derivatives are structurally zero outside the directions of the
+// arguments it reads: a symbol depends on its argument's directions, a segment of a symbol on
+// the segment's, a parameter (an argument not differentiated) and a constant on none, every
+// other node on the union of its operands'. Node types not listed here (user-defined nodes,
+// ocp::rk4) and arguments whose derivatives are not unit seeds (rk4's substituted state) count
+// as depending on every direction: the sets are supersets, never wrong.
+//
+// The fn boundary (boundaries.hpp) uses them: its body, generic user code, runs at
+// Compressed<S, K, L>, a dual of only the K directions its inputs depend on (nested for the L
+// dual levels the evaluation owns: Hessians compress both), so its cost follows K, not n; the
+// result is scattered back with zeros elsewhere. Cost of the change of scalar: one copy per
+// input element and direction kept, one per output element and direction of S.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+
+#include "arbor/ad/dual.hpp"
+#include "arbor/ad/expr/blocks.hpp"
+#include "arbor/ad/expr/constant_matrix.hpp"
+#include "arbor/ad/expr/elementwise.hpp"
+#include "arbor/ad/expr/leaves.hpp"
+#include "arbor/ad/expr/reductions.hpp"
+#include "arbor/ad/expr/values.hpp"
+
+namespace arbor::ad::detail {
+
+/// Whether argument Id's outer-level derivatives in Env are its unit seeds (or zero, for a
+/// parameter): Env::unit_seeds<Id>() where the environment says so per argument, else
+/// Env::seeded.
+template <class Env, int Id>
+constexpr bool unit_seeds() {
+  if constexpr (requires { Env::template unit_seeds<Id>(); })
+    return Env::template unit_seeds<Id>();
+  else
+    return Env::seeded;
+}
+
+/// The number of dual levels of Env::Scalar that this evaluation seeded (1 for Jacobians, 2 for
+/// Hessians; 0 for a plain evaluation, or an environment that does not say).
+template <class Env>
+constexpr int env_levels() {
+  if constexpr (requires { Env::levels; })
+    return Env::levels;
+  else
+    return 0;
+}
+
+/// Number of dual levels of S.
+template <class S>
+constexpr int dual_depth() {
+  if constexpr (is_dual_v<S>)
+    return 1 + dual_depth<typename S::Value>();
+  else
+    return 0;
+}
+
+/// Directions of S's outermost level (0 when S is not a dual).
+template <class S>
+constexpr int outer_directions() {
+  if constexpr (is_dual_v<S>)
+    return S::directions;
+  else
+    return 0;
+}
+
+/// A set of directions of a dual with N directions.
+template <int N>
+using DirSet = std::array<bool, std::size_t(N)>;
+
+template <int N>
+constexpr DirSet<N> all_directions() {
+  DirSet<N> r{};
+  for (auto& b : r)
+    b = true;
+  return r;
+}
+template <int N>
+constexpr DirSet<N> unite(DirSet<N> a, const DirSet<N>& b) {
+  for (std::size_t k = 0; k < std::size_t(N); ++k)
+    a[k] = a[k] || b[k];
+  return a;
+}
+template <int N>
+constexpr int count(const DirSet<N>& a) {
+  int c = 0;
+  for (bool b : a)
+    c += b ? 1 : 0;
+  return c;
+}
+
+/// Deps<E>::get<Env>(): a superset of the outer-level directions of E's value in Env. Primary:
+/// every direction (unknown nodes).
+template <class E>
+struct Deps {
+  template <class Env>
+  static constexpr auto get() {
+    return all_directions<outer_directions<typename Env::Scalar>()>();
+  }
+};
+
+/// The directions E depends on in Env.
+template <class Env, class E>
+constexpr auto deps_of() {
+  return Deps<std::remove_cvref_t<E>>::template get<Env>();
+}
+
+/// The union of the directions of E...
+template <class Env, class... E>
+constexpr auto deps_of_all() {
+  constexpr int n = outer_directions<typename Env::Scalar>();
+  DirSet<n> r{};
+  ((r = unite<n>(r, deps_of<Env, E>())), ...);
+  return r;
+}
+
+/// Elements [Start, Start + Len) of argument Id: their seeds, or every direction.
+template <class Env, int Id, int Start, int Len>
+constexpr auto argument_directions() {
+  constexpr int n = outer_directions<typename Env::Scalar>();
+  if constexpr (!unit_seeds<Env, Id>()) {
+    return all_directions<n>();
+  } else {
+    DirSet<n> r{};
+    constexpr int off = Env::template offset<Id>();
+    if constexpr (off >= 0)
+      for (int j = Start; j < Start + Len; ++j)
+        r[std::size_t(off + j)] = true;
+    return r;
+  }
+}
+
+template <int Id, int N>
+struct Deps<Symbol<Id, N>> {
+  template <class Env>
+  static constexpr auto get() {
+    return argument_directions<Env, Id, 0, N>();
+  }
+};
+template <int N>
+struct Deps<ConstantExpr<N>> {
+  template <class Env>
+  static constexpr auto get() {
+    return DirSet<outer_directions<typename Env::Scalar>()>{};
+  }
+};
+template <int St, int L, class A>
+struct Deps<SegmentExpr<St, L, A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+template <int St, int L, int Id, int N>
+struct Deps<SegmentExpr<St, L, Symbol<Id, N>>> {
+  template <class Env>
+  static constexpr auto get() {
+    return argument_directions<Env, Id, St, L>();
+  }
+};
+template <class... A>
+struct Deps<CatExpr<A...>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of_all<Env, A...>();
+  }
+};
+template <class Op, class A>
+struct Deps<UnaryExpr<Op, A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+template <class Op, class L, class R>
+struct Deps<BinaryExpr<Op, L, R>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of_all<Env, L, R>();
+  }
+};
+template <class L, class R>
+struct Deps<DotExpr<L, R>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of_all<Env, L, R>();
+  }
+};
+template <class A>
+struct Deps<SquaredNormExpr<A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+template <class A>
+struct Deps<SumExpr<A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+template <class K, class A>
+struct Deps<MatVecExpr<K, A>> {
+  template <class Env>
+  static constexpr auto get() {
+    return deps_of<Env, A>();
+  }
+};
+
+// ---- compressed scalars ----------------------------------------------------------------------
+
+/// S with its L outer dual levels reduced to K directions each (K == 0: the levels removed).
+template <class S, int K, int L>
+struct CompressedScalar {
+  using type = S;
+};
+template <class T, int N, int K, int L>
+requires(L >= 1) struct CompressedScalar<Dual<T, N>, K, L> {
+  using inner = typename CompressedScalar<T, K, L - 1>::type;
+  using type = std::conditional_t<K == 0, inner, Dual<inner, (K > 0 ? K : 1)>>;
+};
+template <class S, int K, int L>
+using Compressed = typename CompressedScalar<S, K, L>::type;
+
+/// Bytes of the widest SIMD register the compiler may use for dual arithmetic (0: none).
+#if defined(__AVX__)
+inline constexpr int simd_bytes = 32;
+#elif defined(__SSE2__) || defined(__ARM_NEON)
+inline constexpr int simd_bytes = 16;
+#else
+inline constexpr int simd_bytes = 0;
+#endif
+
+/// The number of directions of a compressed dual keeping K of N directions of base scalar B:
+/// K rounded up to whole SIMD registers (a dual whose directions fill whole registers is
+/// vectorised without remainder loops; the padding directions are zero), at most N; K where
+/// there is no SIMD (every direction costs its instructions).
+template <class B, int N, int K>
+constexpr int padded_directions() {
+  constexpr int lanes = simd_bytes / int(sizeof(B));
+  if constexpr (K == 0 || lanes <= 1) {
+    return K;
+  } else {
+    constexpr int p = (K + lanes - 1) / lanes * lanes;
+    return p < N ? p : N;
+  }
+}
+
+/// The kept directions in order (compressed index -> direction of S), then -1 for the padding
+/// up to P.
+template <int N, int P>
+constexpr std::array<int, std::size_t(P)> kept_directions(const DirSet<N>& mask) {
+  std::array<int, std::size_t(P)> idx{};
+  for (auto& i : idx)
+    i = -1;
+  int a = 0;
+  for (int k = 0; k < N; ++k)
+    if (mask[std::size_t(k)])
+      idx[std::size_t(a++)] = k;
+  return idx;
+}
+/// Direction of S -> compressed index (-1: dropped, structurally zero).
+template <int N>
+constexpr std::array<int, std::size_t(N)> compressed_positions(const DirSet<N>& mask) {
+  std::array<int, std::size_t(N)> pos{};
+  int a = 0;
+  for (int k = 0; k < N; ++k)
+    pos[std::size_t(k)] = mask[std::size_t(k)] ? a++ : -1;
+  return pos;
+}
+
+/// s at the compressed scalar C: L levels, each reduced to the directions Idx (a std::array:
+/// the kept direction of each compressed one, -1 for padding (zero); empty: the levels removed).
+/// Unrolled at compile time.
+template <int L, auto Idx, class C, class S>
+C gather(const S& s) {
+  constexpr std::size_t K = Idx.size();
+  if constexpr (L == 0) {
+    return s;
+  } else if constexpr (K == 0) {
+    return gather<L - 1, Idx, C>(s.v);
+  } else {
+    using CV = typename C::Value;
+    C c;
+    c.v = gather<L - 1, Idx, CV>(s.v);
+    [&]<std::size_t... A>(std::index_sequence<A...>) {
+      auto one = [&](auto a) {
+        constexpr int k = Idx[decltype(a)::value];
+        if constexpr (k >= 0)
+          c.d[decltype(a)::value] = gather<L - 1, Idx, CV>(s.d[k]);
+        else
+          c.d[decltype(a)::value] = CV{};
+      };
+      (one(std::integral_constant<std::size_t, A>{}), ...);
+    }
+    (std::make_index_sequence<K>{});
+    return c;
+  }
+}
+
+/// c (compressed by gather<L, Idx>) back at S: Pos maps each direction of S to its compressed
+/// index (-1: dropped, zero); K the number of compressed directions. Unrolled at compile time.
+template <int L, int K, auto Pos, class S, class C>
+S scatter(const C& c) {
+  if constexpr (L == 0) {
+    return c;
+  } else {
+    using SV = typename S::Value;
+    constexpr std::size_t N = Pos.size();
+    static_assert(std::size_t(S::directions) == N, "compressed levels need equal directions");
+    S r;
+    if constexpr (K == 0)
+      r.v = scatter<L - 1, K, Pos, SV>(c);
+    else
+      r.v = scatter<L - 1, K, Pos, SV>(c.v);
+    [&]<std::size_t... D>(std::index_sequence<D...>) {
+      auto one = [&](auto k) {
+        constexpr int a = Pos[decltype(k)::value];
+        if constexpr (K > 0 && a >= 0)
+          r.d[decltype(k)::value] = scatter<L - 1, K, Pos, SV>(c.d[a]);
+        else
+          r.d[decltype(k)::value] = SV{};
+      };
+      (one(std::integral_constant<std::size_t, D>{}), ...);
+    }
+    (std::make_index_sequence<N>{});
+    return r;
+  }
+}
+
+}  // namespace arbor::ad::detail
