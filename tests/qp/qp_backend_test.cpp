@@ -5,9 +5,12 @@
 // backend, and the reference block-tridiagonal Cholesky) must agree with it after a full
 // factorization and after sequences of working-set changes applied through mark_changed()
 // (rank-one updates, downdates and their refactorization fallback).
-// The exact-dynamics Riccati backend (the default) solves the KKT system [M_P D'; D 0] (D: the
-// dynamics rows, M_P without their weights; backend.hpp, ExactRowBackend) instead: it is checked
-// against the dense KKT matrix solved by Eigen's LU, primal step and dynamics multipliers.
+// The exact-dynamics Riccati backend (the default) solves the KKT system [M_P D' E_B'; D 0 0;
+// E_B 0 0] (D: the dynamics rows, E_B: the working bounds of the inputs and of x_0, which it holds
+// exactly by fixing the variable; M_P without their weights; backend.hpp, ExactRowBackend)
+// instead: it is checked against that dense KKT matrix solved by Eigen's LU, primal step,
+// dynamics multipliers and fixed-bound multipliers, through the same working-set changes (a bound
+// entering fixes its variable by a column deletion, one leaving refactorizes).
 // Every backend call runs inside an allocation guard.
 #include <gtest/gtest.h>
 
@@ -34,7 +37,16 @@ bool is_dynamics_row(int j) {
   return j < Qp::horizon * NR && j % NR < Qp::nx;
 }
 
-/// M = H + delta I + A_W' E A_W; without the dynamics rows when exact (the Riccati backend).
+/// The bounds the Riccati backend holds exactly: those of u_k (k < N) and of x_0 (flat index i),
+/// written from the problem layout (problem.hpp), not from the backend.
+template <typename Qp>
+bool is_exact_bound(int i) {
+  constexpr int NW = Qp::nx + Qp::nu;
+  return i < Qp::horizon * NW && (i < Qp::nx || i % NW >= Qp::nx);
+}
+
+/// M = H + delta I + A_W' E A_W; without the dynamics rows and the exact bounds when exact (the
+/// Riccati backend).
 template <typename Qp>
 Eigen::MatrixXd dense_m(const t::RefQp& r, const ConstraintState* ws, double delta, double w,
                         const Eigen::VectorXd& wa, bool exact = false) {
@@ -42,7 +54,7 @@ Eigen::MatrixXd dense_m(const t::RefQp& r, const ConstraintState* ws, double del
   Eigen::MatrixXd m = r.H;
   m.diagonal().array() += delta;
   for (int i = 0; i < nv; ++i) {
-    if (ws[i] != ConstraintState::inactive)
+    if (ws[i] != ConstraintState::inactive && !(exact && is_exact_bound<Qp>(i)))
       m(i, i) += w;
   }
   for (int j = 0; j < na; ++j) {
@@ -97,12 +109,18 @@ void check_backend(unsigned seed0, int count) {
         b(i) = nd(rng);
       x = b;
       if constexpr (exact) {
-        // [M D'; D 0] [x; nu] = [b; e] with D the dynamics rows of A
-        constexpr int nd_rows = N * NX;
+        // [M D' E'; D 0 0; E 0 0] [x; nu; lam_B] = [b; e; c] with D the dynamics rows of A
+        // and E the rows of I of the working exact bounds
+        int nb_rows = 0;
+        for (int i = 0; i < nv; ++i)
+          nb_rows += ws[i] != ConstraintState::inactive && is_exact_bound<Qp>(i) ? 1 : 0;
+        const int nd_rows = N * NX + nb_rows;
         Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(nv + nd_rows, nv + nd_rows);
         Eigen::VectorXd rhs(nv + nd_rows);
         Eigen::Matrix<double, na, 1> e;
+        Eigen::Matrix<double, nv, 1> cb;
         e.setZero();
+        cb.setZero();
         kkt.topLeftCorner(nv, nv) = m;
         rhs.head(nv) = b;
         int c = 0;
@@ -115,10 +133,19 @@ void check_backend(unsigned seed0, int count) {
           rhs(nv + c) = e(j);
           ++c;
         }
+        for (int i = 0; i < nv; ++i) {
+          if (ws[i] == ConstraintState::inactive || !is_exact_bound<Qp>(i))
+            continue;
+          cb(i) = nd(rng);
+          kkt(nv + c, i) = 1;
+          kkt(i, nv + c) = 1;
+          rhs(nv + c) = cb(i);
+          ++c;
+        }
         const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
         {
           arbor::test::NoAllocScope guard;
-          be.solve_exact(x, e);
+          be.solve_exact(x, e, cb, wa);
         }
         Eigen::VectorXd got(nv + nd_rows);
         got.head(nv) = x;
@@ -126,6 +153,10 @@ void check_backend(unsigned seed0, int count) {
         for (int j = 0; j < na; ++j) {
           if (is_dynamics_row<Qp>(j))
             got(nv + c++) = e(j);
+        }
+        for (int i = 0; i < nv; ++i) {
+          if (ws[i] != ConstraintState::inactive && is_exact_bound<Qp>(i))
+            got(nv + c++) = cb(i);
         }
         const double res = (kkt * got - rhs).cwiseAbs().maxCoeff();
         EXPECT_LE(res, 1e-12 * (1 + kkt.cwiseAbs().maxCoeff() * sol.cwiseAbs().maxCoeff()))
@@ -253,6 +284,17 @@ TEST(QpBackend, RiccatiWorkingSetChangeIsAnUpdate) {
   EXPECT_EQ(be.updates_last, 1);
   ws[i] = ConstraintState::inactive;  // and removed again: a downdate
   be.mark_changed(i);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 1);
+  // a bound of u_{N-1}, held exactly: fixing the input deletes its column, freeing it inserts
+  // the column again; both are sweeps, not refactorizations
+  const int iu = Qp::input_offset(Qp::horizon - 1);
+  ws[iu] = ConstraintState::lower;
+  be.mark_changed(iu);
+  EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
+  EXPECT_EQ(be.updates_last, 1);
+  ws[iu] = ConstraintState::inactive;
+  be.mark_changed(iu);
   EXPECT_EQ(be.factorize(ws.data(), 1e-8, 1e6, wa), 0);
   EXPECT_EQ(be.updates_last, 1);
 }

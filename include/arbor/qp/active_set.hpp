@@ -30,7 +30,14 @@
 //   A backend that solves some rows exactly (ExactRowBackend in backend.hpp: the OCP's dynamics
 //   rows, by a Riccati recursion) leaves them out of E: they hold exactly, D (x + dx) = t_D,
 //   and their multiplier steps dlam_D come from its solve (compute_step(); the rows are
-//   equalities, so the working-set logic never adds or drops them).
+//   equalities, so the working-set logic never adds or drops them). Such a backend may hold
+//   some bounds exactly too (exact_bound(i): the OCP's inputs and x_0, whose variable it fixes):
+//   while in the working set they take no weight, the step puts the variable on its bound
+//   (dx_i = t_i - x_i) and their multiplier steps come from the solve as well.
+//   A full step that nothing blocks misses the weighted constraints by eps |dlam_i| |a_i|; when
+//   that would fail the primal test, refine_step() adds one more proximal step on the same
+//   factorization (centred at the new multipliers), so that a warm start on the right working
+//   set ends after one iteration instead of two.
 //   The matrix is positive definite for any convex H, whatever the working set: redundant or
 //   linearly dependent active constraints and directions of zero curvature (states without
 //   cost, LPs) never make it singular. Along a zero-curvature direction the step is long
@@ -150,7 +157,9 @@ class ActiveSetCore {
         break;
       }
       compute_step(be);
-      const Scalar tau = ratio_test(s);
+      Scalar tau = ratio_test(s);
+      if (tau == Scalar(1) && pending_ < 0 && refine_step(be, s))
+        tau = ratio_test(s);
       const Scalar tau_dual = singular_dual_step(s, tau, changed);
       if (farkas_step(be, s))
         ++certificate_count_;
@@ -229,6 +238,12 @@ class ActiveSetCore {
   /// (dx, dz, dlam): the step to the regularised equality-constrained QP of the working set.
   template <typename Backend>
   void compute_step(const Backend& be);
+  /// A full step that nothing blocks lands on the working set's regularised solution, which
+  /// misses the constraints held by weights by eps |dlam_i| |a_i| (per constraint); when that
+  /// would fail the primal test, one more proximal step on the same factorization (centred at
+  /// the new multipliers) is added to the step. True when it was.
+  template <typename Backend>
+  bool refine_step(const Backend& be, const QpSettings<Scalar>& s);
   /// Longest step in [0, 1] keeping constraints within tolerance and multiplier signs; sets the
   /// pending change of the blocking constraint.
   Scalar ratio_test(const QpSettings<Scalar>& s);
@@ -286,6 +301,7 @@ class ActiveSetCore {
   Scalar pr_prev_ = 0;      ///< primal error of the previous iteration
   bool exact_ = true;       ///< the last evaluate() computed the products from scratch
   bool exact_next_ = true;  ///< the next evaluate() computes them from scratch
+  bool refined_ = false;    ///< refine_step() used r_ as workspace in this iteration
   int since_exact_ = 0;     ///< steps since the products were last computed from scratch
 
   VecA za_;          ///< A x
@@ -576,33 +592,61 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
     else
       return false;
   };
+  // bounds the backend holds exactly (its fixed variables) take no weight either
+  const auto exact_bound = [](int i) {
+    if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>)
+      return Backend::exact_bound(i);
+    else
+      return false;
+  };
   tmpa_.setZero();
   for (int j = 0; j < NA; ++j) {
     if (ws[NV + j] != State::inactive && !exact(j))
       tmpa_(j) = wa_(j) * (za_(j) - target(NV + j));
   }
-  be.cons_tmul(tmpa_, dx_);
+  if constexpr (PathProducts<Backend, Scalar, NV, NA>)
+    be.path_tmul(tmpa_, dx_);  // (the exact rows have no weight: no product with them)
+  else
+    be.cons_tmul(tmpa_, dx_);
   dx_ = -(dx_ + r_);
   for (int i = 0; i < NV; ++i) {
-    if (ws[i] != State::inactive)
+    if (ws[i] == State::inactive)
+      continue;
+    if (exact_bound(i))
+      tmpv_(i) = target(i) - x(i);  // the fixed variable's step
+    else
       dx_(i) -= w_ * (x(i) - target(i));
   }
   if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>) {
-    // D dx = t_D - D x; the backend returns dlam of the exact rows in their entries of tmpa_
+    // D dx = t_D - D x; the backend returns dlam of the exact rows in their entries of tmpa_,
+    // and of the working exact bounds in theirs of tmpv_
     for (int j = 0; j < NA; ++j) {
       if (exact(j))
         tmpa_(j) = target(NV + j) - za_(j);
     }
-    be.solve_exact(dx_, tmpa_);
+    if constexpr (PathProducts<Backend, Scalar, NV, NA>) {
+      // A dx: D dx = e on the exact rows (to round-off), a product with the path rows only
+      for (int j = 0; j < NA; ++j) {
+        if (exact(j))
+          dza_(j) = tmpa_(j);
+      }
+      be.solve_exact(dx_, tmpa_, tmpv_, wa_);
+      be.path_mul(dx_, dza_);
+    } else {
+      be.solve_exact(dx_, tmpa_, tmpv_, wa_);
+      be.cons_mul(dx_, dza_);
+    }
   } else {
     be.solve(dx_);
+    be.cons_mul(dx_, dza_);
   }
-  be.cons_mul(dx_, dza_);
   for (int i = 0; i < NV; ++i) {
     const State wi = ws[i];
-    dlam_x_(i) = wi != State::inactive
-                     ? w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i))
-                     : -lam_x(i);
+    dlam_x_(i) =
+        wi == State::inactive
+            ? -lam_x(i)
+            : (exact_bound(i) ? tmpv_(i)
+                              : w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i)));
   }
   for (int j = 0; j < NA; ++j) {
     const State wj = ws[NV + j];
@@ -611,6 +655,80 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
                      : (wj != State::inactive
                             ? wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j))
                             : -lam_a(j));
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+bool ActiveSetCore<Scalar, NV, NA>::refine_step(const Backend& be, const QpSettings<Scalar>& s) {
+  if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>) {
+    // The regularised step solves K_eps z = b, where the rows and bounds held by weights (P)
+    // read E_P dx - eps dlam_P = c_P; the exact system has E_P dx = c_P. One refinement step
+    // K_eps d = b - K_0 z = -eps dlam_P on those rows is, eliminated,
+    //   M_P d + D' dnu' + E_B' dlam_B' = -E_P' dlam_P,  D d = 0,  E_B d = 0,
+    //   dlam_P += w_P (E_P (x + dx + d) - t_P)       (a second proximal step, same factor)
+    // after which the miss is eps times the change of dlam_P, not eps dlam_P.
+    Scalar miss = 0;
+    bool rows = false;
+    for (int i = 0; i < NV; ++i) {
+      if (ws[i] != State::inactive && !Backend::exact_bound(i))
+        miss = std::max(miss, std::abs(dlam_x_(i)) / w_);
+    }
+    for (int j = 0; j < NA; ++j) {
+      if (ws[NV + j] != State::inactive && !Backend::exact_row(j)) {
+        miss = std::max(miss, std::abs(dlam_a_(j)) / (wa_(j) * rn_(j)));
+        rows = true;
+      }
+    }
+    if (!(miss > Scalar(0.9) * s.tol_primal * pr_scale_))
+      return false;  // the step lands within tolerance (or is not finite: left to the loop)
+    VecV& d = r_;    // workspace: after this step the products are computed from scratch
+    refined_ = true;
+    if (rows) {
+      for (int j = 0; j < NA; ++j) {
+        tmpa_(j) =
+            ws[NV + j] != State::inactive && !Backend::exact_row(j) ? -dlam_a_(j) : Scalar(0);
+      }
+      if constexpr (PathProducts<Backend, Scalar, NV, NA>)
+        be.path_tmul(tmpa_, d);
+      else
+        be.cons_tmul(tmpa_, d);
+    } else {
+      d.setZero();
+    }
+    for (int i = 0; i < NV; ++i) {
+      if (ws[i] != State::inactive && !Backend::exact_bound(i))
+        d(i) -= dlam_x_(i);
+      tmpv_(i) = 0;
+    }
+    tmpa_.setZero();
+    be.solve_exact(d, tmpa_, tmpv_, wa_);
+    dx_ += d;
+    if constexpr (PathProducts<Backend, Scalar, NV, NA>)
+      be.path_mul(dx_, dza_);  // (D d = 0: the exact rows' A dx is unchanged)
+    else
+      be.cons_mul(dx_, dza_);
+    for (int i = 0; i < NV; ++i) {
+      const State wi = ws[i];
+      if (wi == State::inactive)
+        continue;
+      if (Backend::exact_bound(i))
+        dlam_x_(i) += tmpv_(i);
+      else
+        dlam_x_(i) += w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i));
+    }
+    for (int j = 0; j < NA; ++j) {
+      const State wj = ws[NV + j];
+      if (Backend::exact_row(j))
+        dlam_a_(j) += tmpa_(j);
+      else if (wj != State::inactive)
+        dlam_a_(j) += wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j));
+    }
+    return true;
+  } else {
+    (void)be;
+    (void)s;
+    return false;
   }
 }
 
@@ -719,7 +837,8 @@ void ActiveSetCore<Scalar, NV, NA>::take_step(const Backend& be, const QpSetting
   // does not accumulate); else updated here: A x += tau A dx (the step has A dx), H x += tau H dx,
   // r += tau H dx + the multipliers' change (the dropped one's exactly) and A' times it.
   ++since_exact_;
-  exact_next_ = since_exact_ >= kExactEvery || (tau == Scalar(1) && pending_ < 0);
+  exact_next_ = since_exact_ >= kExactEvery || (tau == Scalar(1) && pending_ < 0) || refined_;
+  refined_ = false;
   const int drop = pending_ >= 0 && pending_ws_ == State::inactive ? pending_ : -1;
   x += tau * dx_;
   if (exact_next_) {

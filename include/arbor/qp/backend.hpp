@@ -59,17 +59,33 @@ concept PenalisedBackend = BackendProducts<B, Scalar, NV, NA> &&
 
 /// A backend that solves some rows exactly (the OCP's dynamics, by a Riccati recursion): the
 /// rows j with exact_row(j) are equalities, always in the working set, and take no proximal
-/// weight; it factorizes the KKT matrix [M_P D'; D 0] with M_P = H + delta I + A_P' E A_P (A_P:
-/// the other working rows and bounds, D: the exact rows) and solve_exact(v, a) solves
-///   M_P dx + D' dnu = v,   D dx = a_D
-/// in place: v <- dx, a_j <- dnu_j on the exact rows (the other entries of a are not read and
-/// keep their values).
+/// weight; likewise the bounds i with exact_bound(i) hold exactly while they are in the working
+/// set (the variable is fixed, removed from the recursion: no weight either). It factorizes the
+/// KKT matrix [M_P D' E_B'; D 0 0; E_B 0 0] with M_P = H + delta I + A_P' E A_P (A_P: the other
+/// working rows and bounds, D: the exact rows, E_B: the working exact bounds, rows of I) and
+/// solve_exact(v, a, c, wa) (wa: the row weights given to factorize()) solves
+///   M_P dx + D' dnu + E_B' dlam_B = v,   D dx = a_D,   E_B dx = c_B
+/// in place: v <- dx, a_j <- dnu_j on the exact rows, c_i <- dlam_i on the working exact bounds
+/// (the other entries of a and c are not read and keep their values).
 template <typename B, typename Scalar, int NV, int NA>
 concept ExactRowBackend = BackendProducts<B, Scalar, NV, NA> &&
     requires(const B& cb, Eigen::Matrix<Scalar, NV, 1>& v_out, Eigen::Matrix<Scalar, NA, 1>& a_out,
-             int j) {
+             const Eigen::Matrix<Scalar, NA, 1>& wa, int j) {
   { B::exact_row(j) } -> std::same_as<bool>;
-  cb.solve_exact(v_out, a_out);
+  { B::exact_bound(j) } -> std::same_as<bool>;
+  cb.solve_exact(v_out, a_out, v_out, wa);
+};
+
+/// An ExactRowBackend that also multiplies by the rows it does not solve exactly alone (A_P x,
+/// A_P' l): compute_step() then needs no product with the exact rows (their A dx is the e the
+/// solve was given, and only A_P enters the right-hand side).
+template <typename B, typename Scalar, int NV, int NA>
+concept PathProducts = ExactRowBackend<B, Scalar, NV, NA> &&
+    requires(const B& cb, const Eigen::Matrix<Scalar, NV, 1>& v,
+             Eigen::Matrix<Scalar, NV, 1>& v_out, const Eigen::Matrix<Scalar, NA, 1>& a,
+             Eigen::Matrix<Scalar, NA, 1>& a_out) {
+  cb.path_mul(v, a_out);   // a_out = A_P v on the non-exact rows, the others unchanged
+  cb.path_tmul(a, v_out);  // v_out = A_P' a (a's exact rows not read)
 };
 
 /// Linear algebra of the active-set method: either kind.

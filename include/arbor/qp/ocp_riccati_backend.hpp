@@ -27,6 +27,16 @@
 // ~45 k); with AVX2+FMA and the [A B] products as lazy products (ocp_backend.hpp,
 // lazy_products) the factorization takes 223 k (OCP-FD) and one solve_exact ~67 k. This is the
 // default backend of OcpQpSolver (ocp_qp_solver.hpp).
+// Exact bounds (exact_bound()): a working bound of an input u_k or of x_0 fixes its variable
+// instead of adding the weight w: its row and column of M_k become the unit vector (the
+// recursion runs on the other variables; P_k is the Schur complement of the free inputs only).
+// solve_exact() moves G_k c and F_k c (c: the fixed variables' steps) to the right-hand sides,
+// and returns their multipliers dlam_j = f_j - (G_k dw)_j + (F_k' dnu_k)_j. (A bound on x_k,
+// k >= 1, would be an equality on stage k-1's variables through the dynamics: those bounds keep
+// the weight.) Fixing a variable deletes its column of L_k (the part below the diagonal is
+// rotated into the later columns: an update, always safe), freeing one inserts the column again
+// (row j left of the diagonal by a triangular solve, then a downdate of the later columns); both
+// carry P_k's change down like a rank-one update.
 // Working-set changes: a bound or path row of stage k changes M_k by +-v v'; the rank-one update
 // (downdate) of L_k leaves, after its u columns, the vector v^ with P_k +-= v^ v^', so M_{k-1}
 // changes by +-(F_{k-1}' v^)(F_{k-1}' v^)': one sweep from stage k down to stage 0,
@@ -39,6 +49,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -90,6 +101,11 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
 
   /// The rows solved exactly: the dynamics rows dyn_k, k < N.
   static constexpr bool exact_row(int j) { return j < N * NR && j % NR < NX; }
+  /// The bounds held exactly while in the working set (the variable is fixed, removed from the
+  /// recursion): those of the inputs u_k, k < N, and of the initial state x_0. (A bound on x_k,
+  /// k >= 1, would be an equality on stage k-1's variables through the dynamics: those keep the
+  /// proximal weight, as do the path rows.)
+  static constexpr bool exact_bound(int i) { return i < N * NW && (i < NX || i % NW >= NX); }
 
   void mark_changed(int i) {
     if (n_pending < max_pending) {
@@ -122,6 +138,18 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       const std::int8_t now = ws[i] != ConstraintState::inactive ? 1 : 0;
       if (k <= dirty_to || now == in_factor[i])
         continue;
+      if (exact_bound(i)) {
+        // fixing a variable deletes its column (then an update), freeing one inserts it (then a
+        // downdate); an unsafe one refactorizes stages k..0
+        if (now != 0 ? fix_variable(i, k) : free_variable(i, k, wa)) {
+          in_factor[i] = now;
+          ++updates;
+          ++updates_last;
+        } else {
+          dirty_to = k;
+        }
+        continue;
+      }
       if (rank_one(i, k, now != 0, w, wa)) {
         in_factor[i] = now;
         ++updates;
@@ -154,8 +182,52 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return done;
   }
 
-  /// v <- dx, a_D <- dnu (backend.hpp, ExactRowBackend); a_D holds e on entry.
-  void solve_exact(VecV& v, VecA& a) const {
+  /// y = A_P x on the rows that are not solved exactly (the path rows; the others keep their
+  /// values): the step's A dx needs no product with the dynamics rows, whose D dx is the e the
+  /// solve was given.
+  void path_mul(const VecV& x, VecA& y) const {
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      const auto xk = x.template segment<NX>(k * NW);
+      const auto uk = x.template segment<NU>(k * NW + NX);
+      if constexpr (lazy_products) {
+        y.template segment<NG>(k * NR + NX).noalias() = s.C.lazyProduct(xk) + s.D.lazyProduct(uk);
+      } else {
+        auto gen = y.template segment<NG>(k * NR + NX);
+        gen.noalias() = s.C * xk;
+        gen.noalias() += s.D * uk;
+      }
+    }
+    if constexpr (lazy_products)
+      y.template tail<NGN>().noalias() = p->terminal.C.lazyProduct(x.template tail<NX>());
+    else
+      y.template tail<NGN>().noalias() = p->terminal.C * x.template tail<NX>();
+  }
+
+  /// y = A_P' l over the rows that are not solved exactly (the entries of l on the dynamics rows
+  /// are not read).
+  void path_tmul(const VecA& l, VecV& y) const {
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      const auto lg = l.template segment<NG>(k * NR + NX);
+      if constexpr (lazy_products) {
+        y.template segment<NX>(k * NW).noalias() = s.C.transpose().lazyProduct(lg);
+        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose().lazyProduct(lg);
+      } else {
+        y.template segment<NX>(k * NW).noalias() = s.C.transpose() * lg;
+        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose() * lg;
+      }
+    }
+    if constexpr (lazy_products)
+      y.template tail<NX>().noalias() =
+          p->terminal.C.transpose().lazyProduct(l.template tail<NGN>());
+    else
+      y.template tail<NX>().noalias() = p->terminal.C.transpose() * l.template tail<NGN>();
+  }
+
+  /// v <- dx, a_D <- dnu, c_B <- dlam_B (backend.hpp, ExactRowBackend); a_D holds e and c_B the
+  /// steps of the fixed variables on entry; wa: the row weights of factorize().
+  void solve_exact(VecV& v, VecA& a, VecV& c, const VecA& wa) const {
     Scalar* f = v.data();
     // backward: y_k = L_k^-1 h_k, kept in v's stage segment in (u, x) order
     Scalar* yn = f + N * NW;
@@ -166,9 +238,22 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     for (int k = N - 1; k >= 0; --k) {
       const auto& s = p->stage[k];
       Scalar* fk = f + k * NW;
+      // fixed variables (step cw): f -= G_k cw on the free ones (f_j kept in c for the
+      // multiplier), e_k += F_k cw; their own entries of h are set to cw below
+      VecW cw;
+      VecX ekf;
+      const Scalar* ek = a.data() + k * NR;
+      const int any = fixed_rhs(k, fk, c, wa, cw);
+      if (any == 2) {
+        if (k == 0)
+          ekf.noalias() = Eigen::Map<const VecX>(ek) + prod(s.B, cw.template head<NU>()) +
+                          prod(s.A, cw.template tail<NX>());
+        else
+          ekf.noalias() = Eigen::Map<const VecX>(ek) + prod(s.B, cw.template head<NU>());
+        ek = ekf.data();
+      }
       // r = y_{x,k+1} - Lxx_{k+1}' e_k, then s = Lxx_{k+1} r
       VecX r, sx;
-      const Scalar* ek = a.data() + k * NR;
       if (nnext == NX) {
         lt_mul_tail<NX>(lnext, ek, r.data());
       } else {
@@ -193,6 +278,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
         h.template head<NU>().noalias() += s.B.transpose() * sx;
         h.template tail<NX>() = Eigen::Map<const VecX>(fk);
         h.template tail<NX>().noalias() += s.A.transpose() * sx;
+      }
+      if (any > 0) {
+        for (int j = 0; j < (k == 0 ? NW : NU); ++j) {
+          if (is_fixed(k, j))
+            h(j) = cw(j);
+        }
       }
       solve_lower_packed<NW>(l_stage[k].data(), h.data());
       Eigen::Map<VecW>{fk} = h;
@@ -231,9 +322,155 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     Scalar* fn = f + N * NW;
     costate<NX>(l_term.data(), fn, dw.data() + NU, a.data() + (N - 1) * NR);
     Eigen::Map<VecX>{fn} = dw.template tail<NX>();
+    // multipliers of the fixed variables: dlam_j = f_j - (G_k dw_k)_j - (D' dnu)_j
+    for (int k = 0; k < N; ++k)
+      fixed_multipliers(k, f + k * NW, a.data() + k * NR, c, wa);
   }
 
  private:
+  /// Flat index of the bound of stage k's variable at position j of the (u, x) order.
+  static constexpr int flat_bound(int k, int j) { return k * NW + (j < NU ? NX + j : j - NU); }
+  /// Position in the (u, x) order of stage k's block of the flat bound i.
+  static constexpr int block_pos(int i) {
+    const int loc = i % NW;
+    return loc < NX ? NU + loc : loc - NX;
+  }
+  /// Whether the variable at (u, x) position j of stage k is fixed in the factor.
+  bool is_fixed(int k, int j) const {
+    return (j < NU || k == 0) && in_factor[flat_bound(k, j)] != 0;
+  }
+  /// Zeroes the entries of the fixed variables of stage k (they are not in the recursion).
+  void zero_fixed(int k, VecW& v) const {
+    for (int j = 0; j < NU; ++j) {
+      if (in_factor[k * NW + NX + j] != 0)
+        v(j) = 0;
+    }
+    if (k == 0) {
+      for (int i = 0; i < NX; ++i) {
+        if (in_factor[i] != 0)
+          v(NU + i) = 0;
+      }
+    }
+  }
+
+  /// m * v as an unrolled fixed-size product where Eigen vectorises it (lazy_products), else
+  /// Eigen's gemv.
+  template <typename M, typename V>
+  static auto prod(const M& m, const V& v) {
+    if constexpr (lazy_products)
+      return m.lazyProduct(v);
+    else
+      return (m * v).eval();
+  }
+
+  /// The weighted residuals w_r (C x + D u)_r of stage k's active path rows (0 elsewhere).
+  template <typename VU, typename VX>
+  Eigen::Matrix<Scalar, NG, 1> path_weighted(int k, const VU& u, const VX& x, bool with_x,
+                                             const VecA& wa) const {
+    const auto& s = p->stage[k];
+    Eigen::Matrix<Scalar, NG, 1> t;
+    if (with_x)
+      t.noalias() = prod(s.D, u) + prod(s.C, x);
+    else
+      t.noalias() = prod(s.D, u);
+    for (int r = 0; r < NG; ++r) {
+      const int row = k * NR + NX + r;
+      t(r) = in_factor[NV + row] != 0 ? wa(row) * t(r) : Scalar(0);
+    }
+    return t;
+  }
+
+  /// Stage k's fixed variables: cw <- their steps (from c; zeros elsewhere), c_j <- f_j (kept for
+  /// their multipliers), f (flat (x, u) of stage k) -= G_k cw. Returns 0 when the stage has no
+  /// fixed variable, 1 when their steps are all zero (nothing else to do), 2 otherwise.
+  int fixed_rhs(int k, Scalar* fk, VecV& c, const VecA& wa, VecW& cw) const {
+    int any = 0;
+    const int jend = k == 0 ? NW : NU;  // x_0 is fixed in stage 0 only
+    for (int j = 0; j < jend; ++j) {
+      if (!is_fixed(k, j)) {
+        cw(j) = 0;
+        continue;
+      }
+      const int i = flat_bound(k, j);
+      cw(j) = c(i);
+      c(i) = fk[i - k * NW];
+      any = std::max(any, cw(j) != Scalar(0) ? 2 : 1);
+    }
+    if (any < 2)
+      return any;
+    for (int j = jend; j < NW; ++j)
+      cw(j) = 0;
+    const auto& s = p->stage[k];
+    // G_k cw, (u, x) order: [R S; S' Q] cw + the active path rows' w_r a_r a_r' cw (delta I
+    // touches the fixed entries only); x_0's part only in stage 0
+    const auto cu = cw.template head<NU>();
+    const auto cx = cw.template tail<NX>();
+    Eigen::Matrix<Scalar, NU, 1> gu;
+    VecX gx;
+    gu.noalias() = prod(s.R, cu);
+    gx.noalias() = prod(s.S.transpose(), cu);
+    if (k == 0) {
+      gu.noalias() += prod(s.S, cx);
+      gx.noalias() += prod(s.Q, cx);
+    }
+    if constexpr (NG > 0) {
+      const Eigen::Matrix<Scalar, NG, 1> t = path_weighted(k, cu, cx, k == 0, wa);
+      gu.noalias() += prod(s.D.transpose(), t);
+      gx.noalias() += prod(s.C.transpose(), t);
+    }
+    Eigen::Map<VecX>{fk} -= gx;
+    Eigen::Map<Eigen::Matrix<Scalar, NU, 1>>{fk + NX} -= gu;
+    return 2;
+  }
+
+  /// c_j <- dlam_j = f_j - (G_k dw_k)_j + (F_k' dnu_k)_j for stage k's fixed variables (c_j holds
+  /// f_j from fixed_rhs(); dw: the flat (x, u) step of stage k, nu: the costate of dyn_k).
+  void fixed_multipliers(int k, const Scalar* dwk, const Scalar* nu, VecV& c,
+                         const VecA& wa) const {
+    const int jend = k == 0 ? NW : NU;
+    bool any = false;
+    for (int j = 0; j < jend && !any; ++j)
+      any = is_fixed(k, j);
+    if (!any)
+      return;
+    const auto& s = p->stage[k];
+    const Eigen::Map<const VecX> dx(dwk), dn(nu);
+    const Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>> du(dwk + NX);
+    // the weighted residuals of the active path rows, then row j of G_k dw - F_k' dnu for each
+    // fixed j only (a stage has few)
+    Scalar t[NG > 0 ? NG : 1];
+    for (int r = 0; r < NG; ++r) {
+      const int row = k * NR + NX + r;
+      t[r] = 0;
+      if (in_factor[NV + row] == 0)
+        continue;
+      Scalar v = 0;
+      for (int c = 0; c < NU; ++c)
+        v += s.D(r, c) * du(c);
+      for (int c = 0; c < NX; ++c)
+        v += s.C(r, c) * dx(c);
+      t[r] = wa(row) * v;
+    }
+    for (int j = 0; j < jend; ++j) {
+      if (!is_fixed(k, j))
+        continue;
+      Scalar gj = 0;
+      if (j < NU) {
+        if constexpr (NU > 0) {
+          gj = s.R.col(j).dot(du) + s.S.row(j).dot(dx) - s.B.col(j).dot(dn) + delta_ * du(j);
+          for (int r = 0; r < NG; ++r)
+            gj += s.D(r, j) * t[r];
+        }
+      } else {
+        const int q = j - NU;
+        gj = s.S.col(q).dot(du) + s.Q.col(q).dot(dx) - s.A.col(q).dot(dn) + delta_ * dx(q);
+        for (int r = 0; r < NG; ++r)
+          gj += s.C(r, q) * t[r];
+      }
+      c(flat_bound(k, j)) -= gj;
+    }
+  }
+
   /// Column j of the packed lower triangle of order n, indexed by row: col(l, j)[r] = L(r, j).
   template <int n>
   static const Scalar* col(const Scalar* l, int j) {
@@ -414,6 +651,14 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
                                                      lxx.data() + full * (NX + 1), 0, 0, NX - full);
     }
     gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), tt.data(), tt.data(), NX);
+    // fixed variables (working exact bounds) leave the recursion: unit row and column
+    for (int j = 0; j < (k == 0 ? NW : NU); ++j) {  // (x_0 only in stage 0)
+      if (ws[flat_bound(k, j)] != ConstraintState::inactive) {
+        d.row(j).setZero();
+        d.col(j).setZero();
+        d(j, j) = 1;
+      }
+    }
     if (!potrf_lower<NW>(d.data()))
       return false;
     pack_lower<NW>(d.data(), l_stage[k].data());
@@ -442,16 +687,150 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return true;
   }
 
+  /// Rotates v into the columns j0.. of L_s (update sigma = +1, downdate -1); vx <- the x part
+  /// of v after the u columns (the vector of P_s's change). False when a downdate is unsafe.
+  bool rotate_stage(int s, VecW& v, int j0, VecX& vx, Scalar sigma, Scalar tol) {
+    Scalar* l = l_stage[s].data();
+    for (int j = j0; j < NU; ++j) {
+      if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
+        return false;
+    }
+    vx = v.template tail<NX>();
+    for (int j = j0 > NU ? j0 : NU; j < NW; ++j) {
+      if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
+        return false;
+    }
+    return true;
+  }
+
+  /// Carries P_{s+1} +-= vx vx' down through stages s..dirty_to+1: M_s changes by F_s' vx
+  /// (without the fixed variables' entries).
+  bool sweep_down(int s, VecX vx, Scalar sigma, Scalar tol) {
+    VecW v;
+    for (; s > dirty_to && s >= 0; --s) {
+      const auto& st = p->stage[s];
+      if constexpr (lazy_products) {
+        v.template head<NU>().noalias() = st.B.transpose().lazyProduct(vx);
+        v.template tail<NX>().noalias() = st.A.transpose().lazyProduct(vx);
+      } else {
+        v.template head<NU>().noalias() = st.B.transpose() * vx;
+        v.template tail<NX>().noalias() = st.A.transpose() * vx;
+      }
+      zero_fixed(s, v);
+      if (!rotate_stage(s, v, 0, vx, sigma, tol))
+        return false;
+    }
+    return true;
+  }
+
+  /// Fixes the variable of the exact bound i (stage k < N): its column of L_k is deleted (row
+  /// and column set to the unit vector), the column's part below the diagonal, l, is rotated into
+  /// the later columns (M_k without the variable is L' L'' + l l' there), and P_k's change
+  /// carried down as for a rank-one update. False on a non-finite value.
+  bool fix_variable(int i, int k) {
+    const Scalar tol = std::sqrt(std::numeric_limits<Scalar>::epsilon());
+    const int pj = block_pos(i);
+    Scalar* l = l_stage[k].data();
+    VecW v = VecW::Zero();
+    Scalar* cj = col<NW>(l, pj);
+    for (int r = pj + 1; r < NW; ++r) {
+      v(r) = cj[r];
+      cj[r] = 0;
+    }
+    cj[pj] = 1;
+    for (int c = 0; c < pj; ++c)
+      col<NW>(l, c)[pj] = 0;
+    VecX vx = VecX::Zero();
+    if (!rotate_stage(k, v, pj + 1, vx, Scalar(1), tol))
+      return false;
+    return k == 0 || sweep_down(k - 1, vx, Scalar(1), tol);
+  }
+
+  /// Frees the variable of the exact bound i (stage k < N): its column of M_k, m = G_k e_j +
+  /// F_k' P_{k+1} F_k e_j (without the other fixed variables' entries), is inserted into L_k:
+  /// row j left of the diagonal solves L_11 l = m_1, the diagonal is sqrt(m_jj - |l|^2), the
+  /// column below it (m_2 - L_21 l) / L_jj = v, and the later columns lose v v' (a downdate,
+  /// carried down as for a rank-one one). False when a pivot or a downdate is unsafe.
+  bool free_variable(int i, int k, const VecA& wa) {
+    const Scalar tol = std::sqrt(std::numeric_limits<Scalar>::epsilon());
+    const int pj = block_pos(i);
+    const auto& s = p->stage[k];
+    in_factor[i] = 0;  // (refactorized from ws when this fails)
+    VecX fc, t, sx;
+    if constexpr (NU > 0) {
+      if (pj < NU)
+        fc = s.B.col(pj);
+      else
+        fc = s.A.col(pj - NU);
+    } else {
+      fc = s.A.col(pj - NU);
+    }
+    if (k == N - 1) {
+      lt_mul_tail<NX>(l_term.data(), fc.data(), t.data());
+      l_mul_tail<NX>(l_term.data(), t.data(), sx.data());
+    } else {
+      lt_mul_tail<NW>(l_stage[k + 1].data(), fc.data(), t.data());
+      l_mul_tail<NW>(l_stage[k + 1].data(), t.data(), sx.data());
+    }
+    VecW m;
+    m.template head<NU>().noalias() = prod(s.B.transpose(), sx);
+    m.template tail<NX>().noalias() = prod(s.A.transpose(), sx);
+    if (pj < NU) {
+      if constexpr (NU > 0) {
+        m.template head<NU>() += s.R.col(pj);
+        m.template tail<NX>() += s.S.row(pj).transpose();
+      }
+    } else {
+      m.template head<NU>() += s.S.col(pj - NU);
+      m.template tail<NX>() += s.Q.col(pj - NU);
+    }
+    m(pj) += delta_;
+    for (int r = 0; r < NG; ++r) {
+      const int row = k * NR + NX + r;
+      if (in_factor[NV + row] == 0)
+        continue;
+      const VecW ar = path_row(k, r);
+      m += (wa(row) * ar(pj)) * ar;
+    }
+    zero_fixed(k, m);
+    Scalar* l = l_stage[k].data();
+    VecW lr = VecW::Zero();
+    Scalar d2 = m(pj);
+    for (int c = 0; c < pj; ++c) {
+      Scalar v = m(c);
+      for (int c2 = 0; c2 < c; ++c2)
+        v -= col<NW>(l, c2)[c] * lr(c2);
+      lr(c) = v / col<NW>(l, c)[c];
+      d2 -= lr(c) * lr(c);
+    }
+    if (!(d2 > tol * m(pj)) || !std::isfinite(d2))
+      return false;
+    const Scalar ljj = std::sqrt(d2);
+    VecW v = VecW::Zero();
+    for (int r = pj + 1; r < NW; ++r) {
+      Scalar val = m(r);
+      for (int c = 0; c < pj; ++c)
+        val -= col<NW>(l, c)[r] * lr(c);
+      v(r) = val / ljj;
+    }
+    for (int c = 0; c < pj; ++c)
+      col<NW>(l, c)[pj] = lr(c);
+    Scalar* cj = col<NW>(l, pj);
+    cj[pj] = ljj;
+    for (int r = pj + 1; r < NW; ++r)
+      cj[r] = v(r);
+    VecX vx = VecX::Zero();
+    if (!rotate_stage(k, v, pj + 1, vx, Scalar(-1), tol))
+      return false;
+    return k == 0 || sweep_down(k - 1, vx, Scalar(-1), tol);
+  }
+
   /// Adds (active) or removes the term of constraint i (stage k) by a rank-one sweep over stages
   /// k..dirty_to+1; false when a downdate is unsafe (the caller refactorizes stages k..0).
   bool rank_one(int i, int k, bool active, Scalar w, const VecA& wa) {
     const Scalar sigma = active ? Scalar(1) : Scalar(-1);
     const Scalar tol = std::sqrt(std::numeric_limits<Scalar>::epsilon());
-    // The x part carried to the stage before. Zeroed although for k < N it is only read after
-    // the first stage sets it: GCC -O3 (arm-none-eabi) cannot see that (-Wmaybe-uninitialized).
     VecX vx = VecX::Zero();
-    VecW v;
-    int s = k;
     if (k == N) {
       if (i < NV) {
         vx(i - N * NW) = std::sqrt(w);
@@ -466,40 +845,21 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
         if (!rotate_packed_column<NX, 0>(l_term.data(), nullptr, t.data(), nullptr, j, sigma, tol))
           return false;
       }
-      s = N - 1;
+      return sweep_down(N - 1, vx, sigma, tol);
+    }
+    if (k <= dirty_to)
+      return true;
+    VecW v = VecW::Zero();
+    if (i < NV) {
+      v(block_pos(i)) = std::sqrt(w);
     } else {
-      v.setZero();
-      if (i < NV) {
-        const int loc = i - k * NW;  // (x, u) flat -> (u, x)
-        v(loc < NX ? NU + loc : loc - NX) = std::sqrt(w);
-      } else {
-        const int j = i - NV - k * NR - NX;
-        v = std::sqrt(wa(i - NV)) * path_row(k, j);
-      }
+      const int j = i - NV - k * NR - NX;
+      v = std::sqrt(wa(i - NV)) * path_row(k, j);
     }
-    for (; s > dirty_to && s >= 0; --s) {
-      if (s < k) {
-        const auto& st = p->stage[s];
-        if constexpr (lazy_products) {
-          v.template head<NU>().noalias() = st.B.transpose().lazyProduct(vx);
-          v.template tail<NX>().noalias() = st.A.transpose().lazyProduct(vx);
-        } else {
-          v.template head<NU>().noalias() = st.B.transpose() * vx;
-          v.template tail<NX>().noalias() = st.A.transpose() * vx;
-        }
-      }
-      Scalar* l = l_stage[s].data();
-      for (int j = 0; j < NU; ++j) {
-        if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
-          return false;
-      }
-      vx = v.template tail<NX>();
-      for (int j = NU; j < NW; ++j) {
-        if (!rotate_packed_column<NW, 0>(l, nullptr, v.data(), nullptr, j, sigma, tol))
-          return false;
-      }
-    }
-    return true;
+    zero_fixed(k, v);
+    if (!rotate_stage(k, v, 0, vx, sigma, tol))
+      return false;
+    return sweep_down(k - 1, vx, sigma, tol);
   }
 };
 
