@@ -17,6 +17,17 @@
 // and zero for pairs of joints on different branches. Per joint the cost is constant; the pair
 // sums run over each joint's subtree, whose columns are contiguous (depth-first numbering), as
 // row-vector operations across those columns: O(n d) for a tree of depth d.
+//
+// Cost (issue 17, bench/RESULTS.md): per body, about 300 multiply-adds in the forward pass
+// (placement, column, dS, ddS, world inertia, its rate, momentum and force) and 250 in the
+// backward pass (P, Q, G, H and the composite sums), plus 42 per pair of joints on one branch. The
+// spatial products are written out scalar by scalar (namespace sx) and force-inlined: through
+// Eigen's vectorised 3-vector cross products, comma initialisers and the out-of-line
+// Inertia * Motion, GCC spent about twice the arithmetic in shuffles, calls and copies. A root
+// joint's world column is a compile-time constant (RootColumn) and its dS is zero: its products
+// and its row, the longest, skip the structural zeros. Instructions per call from a user's
+// translation unit: iiwa7 7 965, Kinova Gen3 8 269, YuMi 16 948 (Pinocchio 3.7.0: 24 658,
+// 24 041, 48 599).
 #pragma once
 
 #include "arbor/core/static_for.hpp"
@@ -118,6 +129,255 @@ ARBOR_INLINE Eigen::Matrix<Scalar, 1, L> row_dot(const Blk& blk, int from, const
   return r;
 }
 
+/// Scalar-level spatial products for the per-body passes below, written out component by
+/// component and force-inlined: with Eigen's vectorised 3-vector cross products and the
+/// out-of-line Inertia * Motion, GCC's inlining of the flattened passes depended on the size of
+/// everything else (one extra inline product doubled the count); plain scalar code keeps every
+/// operand in registers. Same arithmetic as spatial::cross, Inertia::operator*, InertiaRate.
+namespace sx {
+
+template <class S>
+ARBOR_INLINE Vec3<S> cross(const Vec3<S>& a, const Vec3<S>& b) {
+  return Vec3<S>(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+}
+
+/// a x b + c x d
+template <class S>
+ARBOR_INLINE Vec3<S> cross2(const Vec3<S>& a, const Vec3<S>& b, const Vec3<S>& c,
+                            const Vec3<S>& e) {
+  return Vec3<S>(a[1] * b[2] - a[2] * b[1] + c[1] * e[2] - c[2] * e[1],
+                 a[2] * b[0] - a[0] * b[2] + c[2] * e[0] - c[0] * e[2],
+                 a[0] * b[1] - a[1] * b[0] + c[0] * e[1] - c[1] * e[0]);
+}
+
+template <class S>
+ARBOR_INLINE S dot3(const Vec3<S>& a, const Vec3<S>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/// M x for a 3x3 matrix.
+template <class S>
+ARBOR_INLINE Vec3<S> mul3(const Mat3<S>& M, const Vec3<S>& x) {
+  return Vec3<S>(M(0, 0) * x[0] + M(0, 1) * x[1] + M(0, 2) * x[2],
+                 M(1, 0) * x[0] + M(1, 1) * x[1] + M(1, 2) * x[2],
+                 M(2, 0) * x[0] + M(2, 1) * x[1] + M(2, 2) * x[2]);
+}
+
+/// <f, m>
+template <class S>
+ARBOR_INLINE S dot(const Force<S>& f, const Motion<S>& m) {
+  return dot3(f.f, m.v) + dot3(f.n, m.w);
+}
+
+/// m1 x m2 (motions)
+template <class S>
+ARBOR_INLINE Motion<S> mcross(const Motion<S>& a, const Motion<S>& b) {
+  return {cross2(a.w, b.v, a.v, b.w), cross(a.w, b.w)};
+}
+
+/// m x* f
+template <class S>
+ARBOR_INLINE Force<S> fcross(const Motion<S>& m, const Force<S>& f) {
+  return {cross(m.w, f.f), cross2(m.w, f.n, m.v, f.f)};
+}
+
+/// Y x = [m xv - h x xw; Io xw + h x xv]
+template <class S>
+ARBOR_INLINE Force<S> imul(const Inertia<S>& Y, const Motion<S>& x) {
+  const Vec3<S>& h = Y.h;
+  const Mat3<S>& I = Y.Io;
+  const Vec3<S>& v = x.v;
+  const Vec3<S>& w = x.w;
+  return {Vec3<S>(Y.m * v[0] - h[1] * w[2] + h[2] * w[1], Y.m * v[1] - h[2] * w[0] + h[0] * w[2],
+                  Y.m * v[2] - h[0] * w[1] + h[1] * w[0]),
+          Vec3<S>(I(0, 0) * w[0] + I(0, 1) * w[1] + I(0, 2) * w[2] + h[1] * v[2] - h[2] * v[1],
+                  I(1, 0) * w[0] + I(1, 1) * w[1] + I(1, 2) * w[2] + h[2] * v[0] - h[0] * v[2],
+                  I(2, 0) * w[0] + I(2, 1) * w[1] + I(2, 2) * w[2] + h[0] * v[1] - h[1] * v[0])};
+}
+
+/// Yd x = [-hd x xw; Iod xw + hd x xv]
+template <class S>
+ARBOR_INLINE Force<S> rmul(const spatial::InertiaRate<S>& Y, const Motion<S>& x) {
+  const Vec3<S>& h = Y.hd;
+  const Mat3<S>& I = Y.Iod;
+  const Vec3<S>& v = x.v;
+  const Vec3<S>& w = x.w;
+  return {Vec3<S>(h[2] * w[1] - h[1] * w[2], h[0] * w[2] - h[2] * w[0], h[1] * w[0] - h[0] * w[1]),
+          Vec3<S>(I(0, 0) * w[0] + I(0, 1) * w[1] + I(0, 2) * w[2] + h[1] * v[2] - h[2] * v[1],
+                  I(1, 0) * w[0] + I(1, 1) * w[1] + I(1, 2) * w[2] + h[2] * v[0] - h[0] * v[2],
+                  I(2, 0) * w[0] + I(2, 1) * w[1] + I(2, 2) * w[2] + h[0] * v[1] - h[1] * v[0])};
+}
+
+/// Column i of a 6 x n matrix as a motion.
+template <class S, class J>
+ARBOR_INLINE Motion<S> jcol(const J& Jm, int i) {
+  return {Vec3<S>(Jm(0, i), Jm(1, i), Jm(2, i)), Vec3<S>(Jm(3, i), Jm(4, i), Jm(5, i))};
+}
+
+/// a += b, entry by entry.
+template <class S>
+ARBOR_INLINE void add_to(Force<S>& a, const Force<S>& b) {
+  for (int c = 0; c < 3; ++c) {
+    a.f[c] += b.f[c];
+    a.n[c] += b.n[c];
+  }
+}
+template <class S>
+ARBOR_INLINE void add_to(Inertia<S>& a, const Inertia<S>& b) {
+  a.m += b.m;
+  for (int c = 0; c < 3; ++c)
+    a.h[c] += b.h[c];
+  for (int c = 0; c < 9; ++c)
+    a.Io.data()[c] += b.Io.data()[c];
+}
+template <class S>
+ARBOR_INLINE void add_to(spatial::InertiaRate<S>& a, const spatial::InertiaRate<S>& b) {
+  for (int c = 0; c < 3; ++c)
+    a.hd[c] += b.hd[c];
+  for (int c = 0; c < 9; ++c)
+    a.Iod.data()[c] += b.Iod.data()[c];
+}
+
+/// m x S for the world column S of body B's joint (no angular part for prismatic joints).
+template <class B, class S>
+ARBOR_INLINE Motion<S> cross_col(const Motion<S>& m, const Motion<S>& Sc) {
+  if constexpr (B::revolute)
+    return mcross(m, Sc);
+  else
+    return {cross(m.w, Sc.v), Vec3<S>::Zero()};
+}
+
+/// S x* f for the world column S of body B's joint.
+template <class B, class S>
+ARBOR_INLINE Force<S> cross_col_force(const Motion<S>& Sc, const Force<S>& f) {
+  if constexpr (B::revolute)
+    return fcross(Sc, f);
+  else
+    return {Vec3<S>::Zero(), cross(Sc.v, f.f)};
+}
+
+/// Rate v x* Y - Y v x of the rigid inertia Y moving with velocity v (WorldInertia::rate).
+template <class S>
+ARBOR_INLINE spatial::InertiaRate<S> rate(const Inertia<S>& Y, const Motion<S>& v) {
+  spatial::InertiaRate<S> D;
+  const Vec3<S>& w = v.w;
+  const Vec3<S>& h = Y.h;
+  D.hd = Vec3<S>(v.v[0] * Y.m + w[1] * h[2] - w[2] * h[1], v.v[1] * Y.m + w[2] * h[0] - w[0] * h[2],
+                 v.v[2] * Y.m + w[0] * h[1] - w[1] * h[0]);
+  // Iod = A + A^T - (h v^T + v h^T) + 2 (v . h) 1, A = [w] Io
+  const Mat3<S>& I = Y.Io;
+  S A[3][3];
+  for (int k = 0; k < 3; ++k) {
+    A[0][k] = w[1] * I(2, k) - w[2] * I(1, k);
+    A[1][k] = w[2] * I(0, k) - w[0] * I(2, k);
+    A[2][k] = w[0] * I(1, k) - w[1] * I(0, k);
+  }
+  const S vh2 = S(2) * dot3(v.v, h);
+  for (int r = 0; r < 3; ++r)
+    for (int k = r; k < 3; ++k) {
+      S e = A[r][k] + A[k][r] - h[r] * v.v[k] - v.v[r] * h[k];
+      if (r == k)
+        e += vh2;
+      D.Iod(r, k) = e;
+      D.Iod(k, r) = e;
+    }
+  return D;
+}
+
+}  // namespace sx
+
+/// World-frame column oMi S_i of joint i (detail::world_column with the scalar cross product).
+template <class R, int i, class Scalar>
+ARBOR_INLINE Motion<Scalar> world_column_sx(const Data<R, Scalar>& d) {
+  using B = spatial::BodyOps<R, i, Scalar>;
+  const SE3<Scalar>& o = d.oMi[i];
+  Vec3<Scalar> axis;
+  if constexpr (B::aligned)
+    axis = (B::sign > 0) ? Vec3<Scalar>(o.R.col(B::k)) : Vec3<Scalar>(-o.R.col(B::k));
+  else
+    axis = spatial::cst::mat_cvec<Scalar, typename B::AxisV>(o.R);
+  if constexpr (B::revolute)
+    return {sx::cross(o.p, axis), axis};
+  else
+    return {axis, Vec3<Scalar>::Zero()};
+}
+
+/// row_dot with the angular half of x zero: sum_c x0[c] * blk.row(c).segment<L>(from).
+template <int L, class Scalar, class Blk>
+ARBOR_INLINE Eigen::Matrix<Scalar, 1, L> row_dot3(const Blk& blk, int from,
+                                                  const Vec3<Scalar>& x0) {
+  Eigen::Matrix<Scalar, 1, L> r = blk.row(0).template segment<L>(from) * x0[0];
+  for (int c = 1; c < 3; ++c)
+    r += blk.row(c).template segment<L>(from) * x0[c];
+  return r;
+}
+
+/// The world column of a root joint, a constant: its placement oMi = Pl Rj(q) leaves the joint
+/// axis Pl.R a and the joint origin Pl.p where they are, so S = (Pl.p x Pl.R a, Pl.R a) for a
+/// revolute joint and (Pl.R a, 0) for a prismatic one. Kv, Kw: its halves as constant vectors.
+template <class R, int i>
+struct RootColumn {
+  static constexpr const model::Placement& X = R::joint_placement[i];
+  static constexpr bool revolute = model::is_revolute(R::joint_kind[i]);
+  static constexpr double axis(int r) {
+    return X.R[r][0] * R::joint_axis[i][0] + X.R[r][1] * R::joint_axis[i][1] +
+           X.R[r][2] * R::joint_axis[i][2];
+  }
+  static constexpr double at(int c) {  // (v; w)
+    if (!revolute)
+      return c < 3 ? axis(c) : 0.0;
+    if (c >= 3)
+      return axis(c - 3);
+    return X.p[(c + 1) % 3] * axis((c + 2) % 3) - X.p[(c + 2) % 3] * axis((c + 1) % 3);
+  }
+  struct Kv {
+    static constexpr double at(int c) { return RootColumn::at(c); }
+  };
+  struct Kw {
+    static constexpr double at(int c) { return RootColumn::at(3 + c); }
+  };
+};
+
+namespace sx {
+
+/// K . x for a constant 3-vector K.
+template <class S, class K>
+ARBOR_INLINE S kdot(const Vec3<S>& x) {
+  namespace c = spatial::cst;
+  return c::dot3<S, c::VEntry<K, 0>, c::VEntry<K, 1>, c::VEntry<K, 2>>(x[0], x[1], x[2],
+                                                                       [] { return S(0); });
+}
+
+/// K x x for a constant 3-vector K.
+template <class S, class K>
+ARBOR_INLINE Vec3<S> kcross(const Vec3<S>& x) {
+  return spatial::cst::mul<S, spatial::cst::Skew<K>>(x);
+}
+
+/// a + b, either possibly a structural zero (Za, Zb).
+template <bool Za, bool Zb, class S>
+ARBOR_INLINE Vec3<S> add(const Vec3<S>& a, const Vec3<S>& b) {
+  if constexpr (Za)
+    return b;
+  else if constexpr (Zb)
+    return a;
+  else
+    return a + b;
+}
+
+}  // namespace sx
+
+/// Row vector sum_c K[c] * blk.row(c).segment<L>(from) for a constant 6-vector K (zeros skipped).
+template <int L, class Scalar, class K, class Blk>
+ARBOR_INLINE Eigen::Matrix<Scalar, 1, L> row_dot_k(const Blk& blk, int from) {
+  namespace c = spatial::cst;
+  using T = Eigen::Matrix<Scalar, 1, L>;
+  const auto r = [&](int k) { return blk.row(k).template segment<L>(from); };
+  return c::dot_n<Scalar, c::VEntry<K, 0>, c::VEntry<K, 1>, c::VEntry<K, 2>, c::VEntry<K, 3>,
+                  c::VEntry<K, 4>, c::VEntry<K, 5>>([] { return T(T::Zero()); }, T(r(0)), T(r(1)),
+                                                    T(r(2)), T(r(3)), T(r(4)), T(r(5)));
+}
+
 /// Forward pass of the derivative sweep for body i, the part independent of the joint
 /// accelerations: placement, world column (into data.J), velocity, dS, the body's own inertia,
 /// rate and momentum (the start of the composite sums), and its force without the joint
@@ -129,15 +389,18 @@ ARBOR_INLINE void deriv_forward_velocity(Data<R, Scalar>& d, DerivativeData<R, S
   using B = spatial::BodyOps<R, i, Scalar>;
   using W = WorldInertia<R, i, Scalar>;
   body_placement<R, i, Scalar>(d);
-  const Motion<Scalar> Sc = world_column<R, i, Scalar>(d);
-  d.J.col(i) << Sc.v, Sc.w;
+  const Motion<Scalar> Sc = world_column_sx<R, i, Scalar>(d);
+  for (int c = 0; c < 3; ++c) {
+    d.J(c, i) = Sc.v[c];
+    d.J(3 + c, i) = Sc.w[c];
+  }
   const Scalar vi = Scalar(v[i]);
   if constexpr (B::parent < 0) {
     dd.dS[i] = Motion<Scalar>::Zero();
     dd.ov[i] = Sc * vi;
   } else {
     const Motion<Scalar>& vp = dd.ov[B::parent];
-    dd.dS[i] = cross_col<B>(vp, Sc);
+    dd.dS[i] = sx::cross_col<B>(vp, Sc);
     dd.ov[i] = vp + Sc * vi;
   }
   if constexpr (W::massless) {
@@ -147,9 +410,9 @@ ARBOR_INLINE void deriv_forward_velocity(Data<R, Scalar>& d, DerivativeData<R, S
     dd.of[i] = Force<Scalar>::Zero();
   } else {
     dd.oYcrb[i] = W::of(d.oMi[i]);
-    dd.oh[i] = dd.oYcrb[i] * dd.ov[i];
-    dd.of[i] = spatial::cross(dd.ov[i], dd.oh[i]);
-    dd.oYdot[i] = W::rate(dd.oYcrb[i], dd.ov[i]);
+    dd.oh[i] = sx::imul(dd.oYcrb[i], dd.ov[i]);
+    dd.of[i] = sx::fcross(dd.ov[i], dd.oh[i]);
+    dd.oYdot[i] = sx::rate(dd.oYcrb[i], dd.ov[i]);
   }
   if constexpr (HasFext)
     dd.of[i] -= d.oMi[i].act((*fext)[i]);
@@ -162,23 +425,29 @@ ARBOR_INLINE void deriv_forward_acceleration(Data<R, Scalar>& d, DerivativeData<
                                              const Eigen::MatrixBase<V>& v,
                                              const Eigen::MatrixBase<A>& a, const Vec3<Scalar>& g) {
   using B = spatial::BodyOps<R, i, Scalar>;
-  const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
+  const Motion<Scalar> Sc = sx::jcol<Scalar>(d.J, i);
   const Scalar ai = Scalar(a[i]);
   if constexpr (B::parent < 0) {
     // v_p = 0, a_p = (-g, 0): ddS = (-g) x S = [-g x S.w; 0]
     if constexpr (B::revolute)
-      dd.ddS[i] = {Sc.w.cross(g), Vec3<Scalar>::Zero()};
+      dd.ddS[i] = {sx::cross(Sc.w, g), Vec3<Scalar>::Zero()};
     else
       dd.ddS[i] = Motion<Scalar>::Zero();
     dd.oa[i] = {Sc.v * ai - g, Sc.w * ai};
   } else {
     constexpr int p = B::parent;
     const Motion<Scalar>& ap = dd.oa[p];
-    dd.ddS[i] = cross_col<B>(ap, Sc) + spatial::cross(dd.ov[p], dd.dS[i]);
-    dd.oa[i] = ap + dd.dS[i] * Scalar(v[i]) + Sc * ai;
+    const Motion<Scalar>& vp = dd.ov[p];
+    const Motion<Scalar>& dS = dd.dS[i];
+    if constexpr (B::revolute)
+      dd.ddS[i] = {sx::cross2(ap.w, Sc.v, ap.v, Sc.w) + sx::cross2(vp.w, dS.v, vp.v, dS.w),
+                   sx::cross2(ap.w, Sc.w, vp.w, dS.w)};
+    else  // dS.w = 0
+      dd.ddS[i] = {sx::cross2(ap.w, Sc.v, vp.w, dS.v), Vec3<Scalar>::Zero()};
+    dd.oa[i] = ap + dS * Scalar(v[i]) + Sc * ai;
   }
   if constexpr (!WorldInertia<R, i, Scalar>::massless)
-    dd.of[i] += dd.oYcrb[i] * dd.oa[i];
+    dd.of[i] += sx::imul(dd.oYcrb[i], dd.oa[i]);
 }
 
 /// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
@@ -191,22 +460,57 @@ ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scal
   constexpr int n = R::nv;
   constexpr int last = model::subtree_last<R>(i);
   constexpr int L = last - i + 1;
-  const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(i));
+  const Motion<Scalar> Sc = sx::jcol<Scalar>(d.J, i);
   const Motion<Scalar>& dS = dd.dS[i];
   const Inertia<Scalar>& Y = Fused ? d.Ycrb[i] : dd.oYcrb[i];
   const spatial::InertiaRate<Scalar>& Yd = dd.oYdot[i];
   const Force<Scalar>& h = dd.oh[i];
   const Force<Scalar>& F = dd.of[i];
 
-  d.tau[i] = spatial::dot(F, Sc);
-  const Force<Scalar> YdS = Yd * Sc;
-  const Force<Scalar> Sxh = cross_col_force<B>(Sc, h);
-  const Force<Scalar> Q = YdS - Sxh;
-  const Force<Scalar> G =
-      cross_col_force<B>(Sc, F) + Y * dd.ddS[i] + Yd * dS + spatial::cross(dS, h);
-  const Force<Scalar> H = Y * dS * Scalar(2) + YdS + Sxh;
+  // A root joint: S constant (RootColumn), dS = 0 and ddS = ((-g) x S, 0)
+  // (deriv_forward_velocity, _acceleration); its products skip the structural zeros of S.
+  constexpr bool root = B::parent < 0;
+  using K = RootColumn<R, i>;
+  using Kv = typename K::Kv;
+  using Kw = typename K::Kw;
+  constexpr bool kv0 = spatial::cst::is_zero_vec<Kv>(), kw0 = spatial::cst::is_zero_vec<Kw>();
+  Force<Scalar> Q, G, H;
+  Motion<Scalar> dS2;
+  if constexpr (root) {
+    d.tau[i] = sx::kdot<Scalar, Kv>(F.f) + sx::kdot<Scalar, Kw>(F.n);
+    // Yd S = (Kw x hd, Iod Kw - Kv x hd), S x* f = (Kw x f.f, Kw x f.n + Kv x f.f)
+    Force<Scalar> YdS, Sxh, SxF;
+    YdS.f = sx::kcross<Scalar, Kw>(Yd.hd);
+    YdS.n = spatial::cst::mat_cvec<Scalar, Kw>(Yd.Iod) - sx::kcross<Scalar, Kv>(Yd.hd);
+    Sxh.f = sx::kcross<Scalar, Kw>(h.f);
+    Sxh.n = sx::add<kw0, kv0>(sx::kcross<Scalar, Kw>(h.n), sx::kcross<Scalar, Kv>(h.f));
+    SxF.f = sx::kcross<Scalar, Kw>(F.f);
+    SxF.n = sx::add<kw0, kv0>(sx::kcross<Scalar, Kw>(F.n), sx::kcross<Scalar, Kv>(F.f));
+    Q = YdS - Sxh;
+    const Vec3<Scalar>& a = dd.ddS[i].v;  // Y (a, 0) = (m a, h x a)
+    G = {SxF.f + a * Y.m, SxF.n + sx::cross(Y.h, a)};
+    H = YdS + Sxh;
+    dS2 = Motion<Scalar>::Zero();
+  } else {
+    d.tau[i] = sx::dot(F, Sc);
+    const Force<Scalar> YdS = sx::rmul(Yd, Sc);
+    const Force<Scalar> Sxh = sx::cross_col_force<B>(Sc, h);
+    Q = YdS - Sxh;
+    G = sx::cross_col_force<B>(Sc, F) + sx::imul(Y, dd.ddS[i]) + sx::rmul(Yd, dS) +
+        sx::fcross(dS, h);
+    dS2 = dS * Scalar(2);
+    H = sx::imul(Y, dS2) + YdS + Sxh;
+  }
   if constexpr (!Fused) {
-    const Force<Scalar> P = Y * Sc;
+    Force<Scalar> P;
+    if constexpr (root) {  // Y S = (m Kv + Kw x h, Io Kw - Kv x h)
+      P.f = sx::add<kv0, kw0>(
+          Vec3<Scalar>(Scalar(Kv::at(0)) * Y.m, Scalar(Kv::at(1)) * Y.m, Scalar(Kv::at(2)) * Y.m),
+          sx::kcross<Scalar, Kw>(Y.h));
+      P.n = spatial::cst::mat_cvec<Scalar, Kw>(Y.Io) - sx::kcross<Scalar, Kv>(Y.h);
+    } else {
+      P = sx::imul(Y, Sc);
+    }
     for (int c = 0; c < 3; ++c) {
       dd.dP(c, i) = P.f[c];
       dd.dP(3 + c, i) = P.n[c];
@@ -222,25 +526,40 @@ ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scal
   }
   if constexpr (model::subtree_contiguous<R>(i)) {
     // Row i over the subtree (k = i, j in [i, last]).
-    dd.dtau_dq.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dG, i, Sc.v, Sc.w);
-    dd.dtau_dv.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dH, i, Sc.v, Sc.w);
+    if constexpr (root) {
+      dd.dtau_dq.row(i).template segment<L>(i) = row_dot_k<L, Scalar, K>(dd.dG, i);
+      dd.dtau_dv.row(i).template segment<L>(i) = row_dot_k<L, Scalar, K>(dd.dH, i);
+    } else {
+      dd.dtau_dq.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dG, i, Sc.v, Sc.w);
+      dd.dtau_dv.row(i).template segment<L>(i) = row_dot<L, Scalar>(dd.dH, i, Sc.v, Sc.w);
+    }
     if constexpr (WithM) {
-      const auto mrow = row_dot<L, Scalar>(dd.dP, i, Sc.v, Sc.w);
+      Eigen::Matrix<Scalar, 1, L> mrow;
+      if constexpr (root)
+        mrow = row_dot_k<L, Scalar, K>(dd.dP, i);
+      else
+        mrow = row_dot<L, Scalar>(dd.dP, i, Sc.v, Sc.w);
       d.M.row(i).template segment<L>(i) = mrow;
       d.M.col(i).template segment<L>(i) = mrow.transpose();
     }
     // Column i below the diagonal over the strict subtree (j = i ancestor of k in (i, last]).
     if constexpr (L > 1) {
       const Motion<Scalar>& ddS = dd.ddS[i];
-      dd.dtau_dq.col(i).template segment<L - 1>(i + 1) =
-          (row_dot<L - 1, Scalar>(dd.dP, i + 1, ddS.v, ddS.w) +
-           row_dot<L - 1, Scalar>(dd.dQ, i + 1, dS.v, dS.w))
-              .transpose();
-      const Vec3<Scalar> dSv2 = dS.v * Scalar(2), dSw2 = dS.w * Scalar(2);
-      dd.dtau_dv.col(i).template segment<L - 1>(i + 1) =
-          (row_dot<L - 1, Scalar>(dd.dP, i + 1, dSv2, dSw2) +
-           row_dot<L - 1, Scalar>(dd.dQ, i + 1, Sc.v, Sc.w))
-              .transpose();
+      if constexpr (root) {
+        dd.dtau_dq.col(i).template segment<L - 1>(i + 1) =
+            row_dot3<L - 1, Scalar>(dd.dP, i + 1, ddS.v).transpose();
+        dd.dtau_dv.col(i).template segment<L - 1>(i + 1) =
+            row_dot_k<L - 1, Scalar, K>(dd.dQ, i + 1).transpose();
+      } else {
+        dd.dtau_dq.col(i).template segment<L - 1>(i + 1) =
+            (row_dot<L - 1, Scalar>(dd.dP, i + 1, ddS.v, ddS.w) +
+             row_dot<L - 1, Scalar>(dd.dQ, i + 1, dS.v, dS.w))
+                .transpose();
+        dd.dtau_dv.col(i).template segment<L - 1>(i + 1) =
+            (row_dot<L - 1, Scalar>(dd.dP, i + 1, dS2.v, dS2.w) +
+             row_dot<L - 1, Scalar>(dd.dQ, i + 1, Sc.v, Sc.w))
+                .transpose();
+      }
     }
   } else {
     // A numbering that is topological but not depth-first: the range [i, last] also holds
@@ -288,10 +607,10 @@ ARBOR_INLINE void deriv_backward_body(Data<R, Scalar>& d, DerivativeData<R, Scal
   if constexpr (B::parent >= 0) {
     constexpr int p = B::parent;
     if constexpr (!Fused)
-      dd.oYcrb[p] += Y;
-    dd.oYdot[p] += Yd;
-    dd.oh[p] += h;
-    dd.of[p] += F;
+      sx::add_to(dd.oYcrb[p], Y);
+    sx::add_to(dd.oYdot[p], Yd);
+    sx::add_to(dd.oh[p], h);
+    sx::add_to(dd.of[p], F);
   }
 }
 
