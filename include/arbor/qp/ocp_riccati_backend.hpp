@@ -396,10 +396,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       c(i) = fk[i - k * NW];
       any = std::max(any, cw(j) != Scalar(0) ? 2 : 1);
     }
-    if (any < 2)
-      return any;
+    // (set although only the fixed entries are read when any < 2: GCC -O3 cannot see that,
+    // -Wmaybe-uninitialized on the bare-metal targets)
     for (int j = jend; j < NW; ++j)
       cw(j) = 0;
+    if (any < 2)
+      return any;
     const auto& s = p->stage[k];
     // G_k cw, (u, x) order: [R S; S' Q] cw + the active path rows' w_r a_r a_r' cw (delta I
     // touches the fixed entries only); x_0's part only in stage 0
