@@ -23,7 +23,10 @@
 // directly, or segments of them (call<Tag>(f, q, v, tau)), have unit seeds known at compile time:
 // their share of the chain rule is a copy of J's columns (summed for an argument used twice), so
 // with only such parts the node's Jacobian costs exactly the provider; the other parts (e.g. the
-// substituted state of an RK4 stage, ocp/rk4.hpp) cost K nout products per column. An input made
+// substituted state of an RK4 stage, ocp/rk4.hpp) cost one product and sum per column, per
+// direction those parts depend on (known at compile time, expr/structure.hpp), per entry of J
+// that is not identically zero (F::jacobian_nonzero() when F provides it, as generated user
+// functions do: ad/user_function.hpp); at most K nout products per column. An input made
 // of arguments and segments of them is read in place (no stacked copy). Because T may itself be a
 // Dual, the same node gives Hessians: with the RBD function objects, Tag Analytical runs the
 // analytical first-order routine in Dual arithmetic (the paper's H^a), AutoDiff runs nested duals
@@ -112,6 +115,39 @@ struct GeneralColumns {
       general_columns<Env, A>().first;                            ///< the columns
   static constexpr int count = general_columns<Env, A>().second;  ///< how many
 };
+
+/// The directions the general parts of a call node's input (those that are not seeded symbols)
+/// depend on: the chain rule runs over these only (the others are zero for them).
+template <class Env, class A>
+constexpr auto general_directions() {
+  using Parts = typename CallParts<A>::type;
+  constexpr int n = outer_directions<typename Env::Scalar>();
+  return []<std::size_t... I>(std::index_sequence<I...>) {
+    DirSet<n> r{};
+    auto one = [&](auto part) {
+      using P = typename decltype(part)::type;
+      if constexpr (!part_is_seeded<Env, P>())
+        r = unite<n>(r, deps_of<Env, P>());
+    };
+    (one(std::type_identity<std::tuple_element_t<I, Parts>>{}), ...);
+    return r;
+  }
+  (std::make_index_sequence<std::tuple_size_v<Parts>>{});
+}
+
+/// The entries of F's Jacobian (column major) that are not identically zero:
+/// F::jacobian_nonzero() when F provides it, else all.
+template <class F>
+constexpr std::array<bool, std::size_t(F::nout* F::nin)> jacobian_nonzero() {
+  if constexpr (requires { F::jacobian_nonzero(); }) {
+    return F::jacobian_nonzero();
+  } else {
+    std::array<bool, std::size_t(F::nout * F::nin)> nz{};
+    for (auto& b : nz)
+      b = true;
+    return nz;
+  }
+}
 
 /// True when every part of a call node's input is a symbol or a segment of one (the input is then
 /// read in place from the environment's arguments, not stacked into a copy).
@@ -216,8 +252,14 @@ struct CallExpr {
       for (int i = 0; i < rows; ++i)
         out[i] = S(yv[i]);
       if constexpr (G::count > 0) {
-        // the general columns of J, contiguous, and their input elements
+        // the general columns of J, contiguous, and their input elements; only the directions
+        // the general parts depend on (the others stay zero) and the entries of J that are not
+        // identically zero (F::jacobian_nonzero(), if F knows them)
         constexpr int ng = G::count;
+        constexpr auto dirs = detail::general_directions<Env, A>();
+        constexpr int kg = detail::count<K>(dirs);
+        constexpr auto kept = detail::kept_directions<K, kg>(dirs);
+        constexpr auto nz = detail::jacobian_nonzero<F>();
         T jg[ng][rows];
         const S* xg[ng];
         for (int g = 0; g < ng; ++g) {
@@ -226,16 +268,29 @@ struct CallExpr {
           for (int i = 0; i < rows; ++i)
             jg[g][i] = J(i, j);
         }
-        for (int k = 0; k < K; ++k) {
+        for (int a = 0; a < kg; ++a) {
+          const int k = kept[std::size_t(a)];
           T acc[rows];
           for (int i = 0; i < rows; ++i)
             acc[i] = T(0);
-          for (int g = 0; g < ng; ++g) {
-            const T xj = xg[g]->d[k];
-            const T* jc = jg[g];
-            for (int i = 0; i < rows; ++i)
-              acc[i] += jc[i] * xj;
+          [&]<std::size_t... Gs>(std::index_sequence<Gs...>) {
+            auto column = [&](auto gc) {
+              constexpr int g = int(decltype(gc)::value);
+              constexpr int j = G::cols[std::size_t(g)];
+              const T xj = xg[g]->d[k];
+              [&]<std::size_t... Is>(std::index_sequence<Is...>) {
+                auto entry = [&](auto ic) {
+                  constexpr int i = int(decltype(ic)::value);
+                  if constexpr (nz[std::size_t(j * rows + i)])
+                    acc[i] += jg[g][i] * xj;
+                };
+                (entry(std::integral_constant<std::size_t, Is>{}), ...);
+              }
+              (std::make_index_sequence<std::size_t(rows)>{});
+            };
+            (column(std::integral_constant<std::size_t, Gs>{}), ...);
           }
+          (std::make_index_sequence<std::size_t(ng)>{});
           for (int i = 0; i < rows; ++i)
             out[i].d[k] = acc[i];
         }
