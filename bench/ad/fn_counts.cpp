@@ -24,6 +24,8 @@
 
 #include "op_counts.hpp"
 #include "op_tick.hpp"
+#include "track_function.hpp"
+#include "track_function_ad.hpp"
 
 namespace {
 
@@ -66,15 +68,28 @@ inline auto pose_alone() {
   return ad::segment<0, 9>(ad::call<ad::Analytical>(PoseStandIn{}, ad::segment<0, 7>(X)));
 }
 
-/// The tracking residual as an fn node (Compress: ad::fn, else ad::fn_dense).
-template <bool Compress>
+/// The parameters of the generated variant (the reference), static: the handle points at them.
+std::array<double, 13> g_track_params{};
+
+/// How the tracking residual is differentiated.
+enum class Mode { dense, structure, generated };
+
+/// The tracking residual: an fn node (dense: ad::fn_dense; structure: ad::fn) or a call node of
+/// the user function with its generated Jacobian (generated).
+template <Mode M>
 auto track(const contour::Reference& ref) {
   const auto q = ad::segment<0, 7>(X);
   const auto pose = ad::call<ad::Analytical>(PoseStandIn{}, q);
-  if constexpr (Compress)
+  if constexpr (M == Mode::structure) {
     return ad::fn<9>(contour::TrackResidual{ref}, pose, ad::segment<14, 2>(X));
-  else
+  } else if constexpr (M == Mode::dense) {
     return ad::fn_dense<9>(contour::TrackResidual{ref}, pose, ad::segment<14, 2>(X));
+  } else {
+    g_track_params = arbor::bench_ad::track_parameters(ref);
+    return ad::call<ad::Generated>(
+        ad::user_function<arbor::bench_ad::TrackFunction>(g_track_params.data()), pose,
+        ad::segment<14, 2>(X));
+  }
 }
 
 /// A stage point: q near q0, s = 0.3, sd = 0.2.
@@ -149,10 +164,10 @@ void print_row(const char* what, const char* mode, const Row& r, std::uint64_t d
               static_cast<unsigned long long>(r.counted.live));
 }
 
-template <bool Compress>
+template <Mode M>
 void BM_track_jacobian(benchmark::State& state) {
   const auto ref = contour::make_reference(0.2);
-  const auto e = track<Compress>(ref);
+  const auto e = track<M>(ref);
   VecN<double, 16> x;
   VecN<double, 8> u;
   VecN<double, 1> p;
@@ -163,10 +178,10 @@ void BM_track_jacobian(benchmark::State& state) {
     benchmark::DoNotOptimize(vj);
   }
 }
-template <bool Compress>
+template <Mode M>
 void BM_track_hessian(benchmark::State& state) {
   const auto ref = contour::make_reference(0.2);
-  const auto e = ad::sum(track<Compress>(ref));
+  const auto e = ad::sum(track<M>(ref));
   VecN<double, 16> x;
   VecN<double, 8> u;
   VecN<double, 1> p;
@@ -177,10 +192,12 @@ void BM_track_hessian(benchmark::State& state) {
     benchmark::DoNotOptimize(h);
   }
 }
-BENCHMARK(BM_track_jacobian<false>)->Name("track_jacobian/dense");
-BENCHMARK(BM_track_jacobian<true>)->Name("track_jacobian/structure");
-BENCHMARK(BM_track_hessian<false>)->Name("track_hessian/dense");
-BENCHMARK(BM_track_hessian<true>)->Name("track_hessian/structure");
+BENCHMARK(BM_track_jacobian<Mode::dense>)->Name("track_jacobian/dense");
+BENCHMARK(BM_track_jacobian<Mode::structure>)->Name("track_jacobian/structure");
+BENCHMARK(BM_track_jacobian<Mode::generated>)->Name("track_jacobian/generated");
+BENCHMARK(BM_track_hessian<Mode::dense>)->Name("track_hessian/dense");
+BENCHMARK(BM_track_hessian<Mode::structure>)->Name("track_hessian/structure");
+BENCHMARK(BM_track_hessian<Mode::generated>)->Name("track_hessian/generated");
 
 }  // namespace
 
@@ -196,16 +213,27 @@ int main(int argc, char** argv) {
   std::printf(
       "| evaluation | fn body at | operations executed (Tick) | after folding (Counted) | "
       "live (Counted tape) |\n|---|---|---:|---:|---:|\n");
-  const Row jd = count_jacobian(track<false>(ref)), js = count_jacobian(track<true>(ref));
+  const Row jd = count_jacobian(track<Mode::dense>(ref));
+  const Row js = count_jacobian(track<Mode::structure>(ref));
+  const Row jg = count_jacobian(track<Mode::generated>(ref));
   const Row jp = count_jacobian(pose_alone());
   print_row("Jacobian 9 x 24", "Dual<T, 24> (fn_dense)", jd, jd.machine);
   print_row("Jacobian 9 x 24", "compressed (fn)", js, jd.machine);
+  print_row("Jacobian 9 x 24", "generated (call<Generated>, user_function)", jg, jd.machine);
   print_row("Jacobian 9 x 24", "(the pose stand-in alone)", jp, jd.machine);
-  const Row hd = count_hessian(track<false>(ref)), hs = count_hessian(track<true>(ref));
+  const Row hd = count_hessian(track<Mode::dense>(ref));
+  const Row hs = count_hessian(track<Mode::structure>(ref));
+  const Row hg = count_hessian(track<Mode::generated>(ref));
   const Row hp = count_hessian(pose_alone());
   print_row("Hessian 24 x 24 of the sum", "Dual<Dual<T, 24>, 24> (fn_dense)", hd, hd.machine);
   print_row("Hessian 24 x 24 of the sum", "compressed (fn)", hs, hd.machine);
+  print_row("Hessian 24 x 24 of the sum", "generated Jacobian at Dual<T, 24>", hg, hd.machine);
   print_row("Hessian 24 x 24 of the sum", "(the pose stand-in alone)", hp, hd.machine);
+  using GF = ad::GeneratedFunction<arbor::bench_ad::TrackFunction>;
+  std::printf(
+      "\ngenerated TrackFunction: primal %ld live operations, jacobian() %ld "
+      "operations (value and 9 x 14 Jacobian)\n",
+      GF::primal_ops, GF::jacobian_ops);
   std::printf("\n");
   std::fflush(stdout);
   benchmark::Initialize(&argc, argv);

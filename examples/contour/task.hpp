@@ -76,17 +76,21 @@ constexpr const char* to_string(Formulation f) {
 }
 
 // ---- reference path -----------------------------------------------------------------------------
-/// The reference: p0, R0 (end-effector pose at q0) and the progress-speed scale c.
-struct Reference {
-  std::array<double, 3> p0{};  ///< initial end-effector position [m]
-  std::array<double, 9> R0{};  ///< initial end-effector rotation, column-major
-  double c = 0.2;              ///< sd_ref scale (the task code's two versions: 0.025, 0.2)
+/// The reference: p0, R0 (end-effector pose at q0) and the progress-speed scale c, as numbers of
+/// type P (double; a symbolic scalar when the tracking residual's code is generated with the
+/// reference as run-time parameters, bench/ad/fn_counts.cpp).
+template <class P = double>
+struct ReferenceT {
+  std::array<P, 3> p0{};  ///< initial end-effector position [m]
+  std::array<P, 9> R0{};  ///< initial end-effector rotation, column-major
+  P c = P(0.2);           ///< sd_ref scale (the task code's two versions: 0.025, 0.2)
 };
+using Reference = ReferenceT<double>;
 
 /// sd_ref(s) = c * (5.777783e-13 s^5 - 34.6153846154 s^4 + 69.2307692308 s^3
 ///                  - 46.7307692308 s^2 + 12.1153846154 s + 0.0515384615).
-template <class S>
-S sd_ref(double c, const S& s) {
+template <class S, class C>
+S sd_ref(const C& c, const S& s) {
   S poly = S(5.777783e-13) * s + S(-34.6153846154);
   poly = poly * s + S(69.2307692308);
   poly = poly * s + S(-46.7307692308);
@@ -96,8 +100,8 @@ S sd_ref(double c, const S& s) {
 }
 
 /// p_ref(s) = p0 + [0.05 sin(4 pi s), 0.15 sin(2 pi s), 0.15 sin(2 pi s) cos(2 pi s)].
-template <class S>
-VecN<S, 3> p_ref(const Reference& r, const S& s) {
+template <class S, class P>
+VecN<S, 3> p_ref(const ReferenceT<P>& r, const S& s) {
   const S a = S(2 * pi) * s;
   const S sa = arbor::sin(a), ca = arbor::cos(a);
   VecN<S, 3> p;
@@ -109,8 +113,8 @@ VecN<S, 3> p_ref(const Reference& r, const S& s) {
 
 /// e_R = 1/2 sum_i n_i x r_i over the columns n_i of R (from a pose vector, offset 3) and r_i of
 /// R_ref (zero when aligned).
-template <class S, class V>
-VecN<S, 3> rotation_error(const Reference& r, const V& pose) {
+template <class S, class V, class P>
+VecN<S, 3> rotation_error(const ReferenceT<P>& r, const V& pose) {
   VecN<S, 3> e = VecN<S, 3>::Zero();
   for (int i = 0; i < 3; ++i) {
     const S n0 = pose[3 + 3 * i], n1 = pose[4 + 3 * i], n2 = pose[5 + 3 * i];
@@ -242,9 +246,11 @@ struct Workspace : ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWo
 };
 
 // ---- the OCP's nonlinear pieces as generic functions (ad::fn bodies) ----------------------------
-/// [sd - sd_ref(s), e_p (3), e_R (3), 1 - s, sd] from the pose (12) and [s, sd].
-struct TrackResidual {
-  Reference ref;
+/// [sd - sd_ref(s), e_p (3), e_R (3), 1 - s, sd] from the pose (12) and [s, sd] (reference
+/// numbers of type Num).
+template <class Num = double>
+struct TrackResidualT {
+  ReferenceT<Num> ref;
   template <class P, class X>
   auto operator()(const P& pose, const X& ssd) const {
     using S = ad::ScalarOf<P>;
@@ -262,6 +268,8 @@ struct TrackResidual {
     return r;
   }
 };
+
+using TrackResidual = TrackResidualT<double>;
 
 /// The tunnel's e_p = p_ee - p_ref(s) times inv_radius (see make_problem's `scaled`), times the
 /// stage parameter w (1 on stages 1..N-1, 0 on stage 0: x_0 is the measurement, no decision can
