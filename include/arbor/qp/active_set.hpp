@@ -65,7 +65,8 @@
 //   a row changes none of these (stationarity contains a_i lam_i only), so `solved` is never
 //   returned at a point that violates a row relative to its own size. SolveInfo reports the
 //   residuals as the data state them (unnormalised).
-// - Infeasibility: every step's multiplier change y = dlam is tested as a Farkas certificate:
+// - Infeasibility: every step's multiplier change y = dlam is tested as a Farkas certificate
+//   (after the next evaluate(), unless that one ends the loop as `solved`: settle_farkas()):
 //   with y normalised (sum |y_i| |a_i| = 1), entries on a side with an infinite bound left out,
 //   e = y_x + A' y_a and sigma = sum_{y_i>0} ub_i y_i + sum_{y_i<0} lb_i y_i, every x has
 //   y'z = e'x and every feasible x has y'z <= sigma; with bscale the largest |bound_i| / |a_i|
@@ -94,8 +95,9 @@
 // every residual reported belongs to the returned point as computed from the data.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
 // the steps below in this order, each a member function: begin() once, then per iteration
-// evaluate(), converged_or_stopped(), change_working_set(), refactorize(), compute_step(),
-// ratio_test(), singular_dual_step(), farkas_step(), take_step(); finish() once.
+// evaluate(), settle_farkas() (the previous step's farkas_step()), converged_or_stopped(),
+// change_working_set(), refactorize(), compute_step(), ratio_test(), refine_step(),
+// singular_dual_step(), take_step(); finish() once.
 #pragma once
 
 #include <Eigen/Core>
@@ -146,8 +148,11 @@ class ActiveSetCore {
     QpStatus status = QpStatus::iteration_limit;
     for (int it = 0;; ++it) {
       evaluate(be, exact_next_);
-      if (!exact_ && may_stop(s, it))
+      settle_farkas(be, s);
+      if (!exact_ && may_stop(s, it)) {
         evaluate(be, true);  // a loop that ends judges (and reports) products from scratch
+        settle_farkas(be, s);
+      }
       if (converged_or_stopped(s, it, status))
         break;
       info.iterations = it + 1;
@@ -161,11 +166,8 @@ class ActiveSetCore {
       if (tau == Scalar(1) && pending_ < 0 && refine_step(be, s))
         tau = ratio_test(s);
       const Scalar tau_dual = singular_dual_step(s, tau, changed);
-      if (farkas_step(be, s))
-        ++certificate_count_;
-      else
-        certificate_count_ = 0;
       take_step(be, s, tau, tau_dual, changed);
+      farkas_pending_ = true;  // the step's certificate test: settle_farkas()
     }
     return finish(be, s, info, status);
   }
@@ -250,6 +252,21 @@ class ActiveSetCore {
   /// Multiplier step length (tau, or longer when a stalled, inconsistent working set must shed
   /// a constraint: QRQP's singular step in multiplier space).
   Scalar singular_dual_step(const QpSettings<Scalar>& s, Scalar tau, bool changed);
+  /// The Farkas test of the last step's multiplier change (farkas_step(), counted in
+  /// certificate_count_), made after the next evaluate() and only when that one does not end the
+  /// loop as `solved` (which reads no certificate): the one-iteration warm starts skip it. The
+  /// step's dlam is still in dlam_x_, dlam_a_, and pr_prev_ holds the primal error it was taken
+  /// from, so the count is the one a test right after the step would give.
+  template <typename Backend>
+  void settle_farkas(const Backend& be, const QpSettings<Scalar>& s) {
+    if (!farkas_pending_ || merit_of(s) <= 1)
+      return;
+    farkas_pending_ = false;
+    if (farkas_step(be, s, pr_prev_))
+      ++certificate_count_;
+    else
+      certificate_count_ = 0;
+  }
   /// Applies the step and flags a possible unbounded direction.
   template <typename Backend>
   void take_step(const Backend& be, const QpSettings<Scalar>& s, Scalar tau, Scalar tau_dual,
@@ -258,9 +275,10 @@ class ActiveSetCore {
   template <typename Backend>
   QpStatus finish(const Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
                   QpStatus status);
-  /// True when the multiplier step (dlam) is a Farkas certificate of infeasibility.
+  /// True when the multiplier step (dlam) is a Farkas certificate of infeasibility (pr: the
+  /// primal error of the iterate the step was taken from).
   template <typename Backend>
-  bool farkas_step(const Backend& be, const QpSettings<Scalar>& s);
+  bool farkas_step(const Backend& be, const QpSettings<Scalar>& s, Scalar pr);
   template <typename Backend>
   bool unboundedness_certificate(const Backend& be, const QpSettings<Scalar>& s);
 
@@ -298,11 +316,12 @@ class ActiveSetCore {
   /// First iteration of a warm start (the multipliers named an inequality): no constraint is
   /// added before one step on the working set they name
   bool warm_first_ = false;
-  Scalar pr_prev_ = 0;      ///< primal error of the previous iteration
-  bool exact_ = true;       ///< the last evaluate() computed the products from scratch
-  bool exact_next_ = true;  ///< the next evaluate() computes them from scratch
-  bool refined_ = false;    ///< refine_step() used r_ as workspace in this iteration
-  int since_exact_ = 0;     ///< steps since the products were last computed from scratch
+  Scalar pr_prev_ = 0;           ///< primal error of the previous iteration
+  bool exact_ = true;            ///< the last evaluate() computed the products from scratch
+  bool exact_next_ = true;       ///< the next evaluate() computes them from scratch
+  bool refined_ = false;         ///< refine_step() used r_ as workspace in this iteration
+  bool farkas_pending_ = false;  ///< the last step's certificate test is still to be made
+  int since_exact_ = 0;          ///< steps since the products were last computed from scratch
 
   VecA za_;          ///< A x
   VecV hx_;          ///< H x
@@ -354,6 +373,7 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   have_best_ = false;
   unbounded_candidate_ = false;
   certificate_count_ = 0;
+  farkas_pending_ = false;
   stall_count_ = 0;
   stall_ref_ = inf();
   singular_drops_.fill(-1);
@@ -896,7 +916,8 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettin
 
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
-bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSettings<Scalar>& s) {
+bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSettings<Scalar>& s,
+                                                Scalar pr) {
   // y = dlam (the direction in which the multipliers move; on an inconsistent working set they
   // grow along a null vector of [I A']). Entries whose side has an infinite bound are left out.
   // For every x: y'z = e'x with e = y_x + A' y_a, and for a feasible x: y'z <= sigma =
@@ -904,7 +925,7 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
   // (sum |y_i| |a_i| = 1), -sigma is a lower bound on the largest per-constraint violation of
   // any x with e'x = 0, so sigma < 0 with |e|_1 |x| negligible proves that no point within
   // 1 / tol_certificate times the iterate's scale is feasible. Scale-invariant (rows, cost).
-  if (!(pr_ > s.tol_primal))
+  if (!(pr > s.tol_primal))
     return false;  // the iterate is feasible: no certificate to look for
   Scalar ny = 0, sigma = 0, bscale = 1;
   for (int i = 0; i < nz; ++i) {
