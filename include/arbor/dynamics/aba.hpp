@@ -2,6 +2,7 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/rnea.hpp"
@@ -22,21 +23,25 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
+    using X = sx::Body<B, Scalar>;
     const JointState<Scalar>& js = d.joint[i];
     const Scalar vi = Scalar(v[i]);
+    Motion<Scalar> vel;
     if constexpr (B::parent < 0) {
-      d.v[i] = B::S_times(vi);
+      vel = B::S_times(vi);
       d.a[i] = Motion<Scalar>::Zero();  // v_parent = 0, so c = v x S v = 0
     } else {
-      d.v[i] = B::motion_to_child(js, d.v[B::parent]);
-      B::add_S(d.v[i], vi);
-      d.a[i] = B::cross_S(d.v[i], vi);
+      vel = X::to_child(js, d.v[B::parent]);
+      X::add_S(vel, vi);
+      Motion<Scalar> c = Motion<Scalar>::Zero();
+      X::add_cross_S(c, vel, vi);
+      d.a[i] = c;
     }
-    d.Yaba[i] = B::art_inertia();
+    d.v[i] = vel;
     if constexpr (B::massless)
       d.pA[i] = Force<Scalar>::Zero();
     else
-      d.pA[i] = spatial::cross(d.v[i], B::inertia_times(d.v[i]));
+      d.pA[i] = sx::fcross(vel, X::inertia_times(vel));
     if (fext)  // a run-time test: if constexpr here costs 1-4 % more (GCC 12 inlining)
       d.pA[i] -= (*fext)[i];
   });
@@ -44,30 +49,54 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
-    d.Dinv[i] = Scalar(1) / B::ST(d.U[i]);
-    d.u[i] = Scalar(tau[i]) - B::ST(d.pA[i]);
+    using X = sx::Body<B, Scalar>;
+    if constexpr (sx::last_child<R>(i) < 0)
+      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
+    X::art_S(d.Yaba[i], d.U[i]);
+    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
+    d.Dinv[i] = Dinv;
+    const Scalar ui = Scalar(tau[i]) - X::ST(d.pA[i]);
+    d.u[i] = ui;
     if constexpr (B::parent >= 0) {
       // pa = pA + Ya c + U Dinv u with Ya = Y - U Dinv U^T: Ya c = Y c - U Dinv (U . c)
-      const Force<Scalar> pa = d.pA[i] + d.Yaba[i] * d.a[i] +
-                               d.U[i] * (d.Dinv[i] * (d.u[i] - spatial::dot(d.U[i], d.a[i])));
-      d.Yaba[B::parent] += B::art_project_to_parent(d.joint[i], d.Yaba[i], d.U[i], d.Dinv[i]);
-      d.pA[B::parent] += B::force_to_parent(d.joint[i], pa);
+      const Motion<Scalar>& c = d.a[i];
+      Force<Scalar> pa = X::template art_times<X::c_nz>(d.Yaba[i], c);
+      const Scalar g = Dinv * (ui - X::template dot_masked<X::c_nz>(d.U[i], c));
+      for (int r = 0; r < 3; ++r) {
+        pa.f[r] += d.pA[i].f[r] + d.U[i].f[r] * g;
+        pa.n[r] += d.pA[i].n[r] + d.U[i].n[r] * g;
+      }
+      using BP = spatial::BodyOps<R, B::parent, Scalar>;
+      using Init = std::conditional_t<sx::last_child<R>(B::parent) == i, BP, void>;
+      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[B::parent]);
+      X::add_to_parent(d.joint[i], pa, d.pA[B::parent]);
     }
   });
   // Pass 3: accelerations, root to leaves (the base accelerates by -g).
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
+    using X = sx::Body<B, Scalar>;
     Motion<Scalar> ai;
+    Scalar ddq;
     if constexpr (B::parent < 0) {
-      ai.v = B::linear_to_child(d.joint[i], -g) + d.a[i].v;
-      ai.w = d.a[i].w;
+      ai.v = X::linear_to_child(d.joint[i], -g);
+      ai.w.setZero();
+      ddq = d.Dinv[i] * (d.u[i] - X::template dot_masked<0x7u>(d.U[i], ai));
     } else {
-      ai = B::motion_to_child(d.joint[i], d.a[B::parent]) + d.a[i];
+      ai = X::to_child(d.joint[i], d.a[B::parent]);
+      const Motion<Scalar>& c = d.a[i];
+      static_for<3>([&](auto J) {
+        constexpr int j = decltype(J)::value;
+        if constexpr ((X::c_nz >> j) & 1u)
+          ai.v[j] += c.v[j];
+        if constexpr ((X::c_nz >> (3 + j)) & 1u)
+          ai.w[j] += c.w[j];
+      });
+      ddq = d.Dinv[i] * (d.u[i] - sx::dot(d.U[i], ai));
     }
-    d.ddq[i] = d.Dinv[i] * (d.u[i] - spatial::dot(d.U[i], ai));
-    B::add_S(ai, d.ddq[i]);
+    d.ddq[i] = ddq;
+    X::add_S(ai, ddq);
     d.a[i] = ai;
   });
 }

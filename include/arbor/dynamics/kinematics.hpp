@@ -3,7 +3,9 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/sincos_batch.hpp"
 #include "arbor/spatial/body_ops.hpp"
 #include "arbor/spatial/constant.hpp"
 
@@ -29,13 +31,50 @@ ARBOR_INLINE void check_frame(int frame) {
   (void)frame;
 }
 
-/// Joint states of every body from q.
+/// Number of revolute joints of R, and the slot of revolute joint i among them.
+template <class R>
+constexpr int revolute_before(int i) {
+  int n = 0;
+  for (int j = 0; j < i; ++j)
+    n += model::is_revolute(R::joint_kind[j]) ? 1 : 0;
+  return n;
+}
+
+/// Joint states of every body from q. In double, the sines and cosines of all revolute joints
+/// in one batch (sincos_batch.hpp: the same values, across SIMD lanes).
 template <class R, class Scalar, class Q>
 ARBOR_INLINE void joint_states(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q) {
-  static_for<R::nb>([&](auto I) {
-    constexpr int i = decltype(I)::value;
-    d.joint[i] = spatial::BodyOps<R, i, Scalar>::state(Scalar(q[i]));
-  });
+  constexpr int nr = revolute_before<R>(R::nb);
+  if constexpr (std::is_same_v<Scalar, double> && nr > 1) {
+    constexpr int np = (nr + kSincosLanes - 1) / kSincosLanes * kSincosLanes;
+    double x[np], s[np], c[np];
+    static_for<R::nb>([&](auto I) {
+      constexpr int i = decltype(I)::value;
+      if constexpr (model::is_revolute(R::joint_kind[i]))
+        x[revolute_before<R>(i)] = q[i];
+    });
+    for (int j = nr; j < np; ++j)
+      x[j] = 1.0;  // padding, not an argument treated apart
+    sincos_double_batch<np>(x, s, c);
+    static_for<R::nb>([&](auto I) {
+      constexpr int i = decltype(I)::value;
+      using B = spatial::BodyOps<R, i, Scalar>;
+      if constexpr (B::revolute) {
+        constexpr int r = revolute_before<R>(i);
+        JointState<Scalar>& js = d.joint[i];
+        js.c = c[r];
+        js.s = (B::sign < 0) ? -s[r] : s[r];
+        js.d = 0.0;
+      } else {
+        d.joint[i] = B::state(Scalar(q[i]));
+      }
+    });
+  } else {
+    static_for<R::nb>([&](auto I) {
+      constexpr int i = decltype(I)::value;
+      d.joint[i] = spatial::BodyOps<R, i, Scalar>::state(Scalar(q[i]));
+    });
+  }
 }
 
 /// liMi and oMi of body i (its parent's oMi already computed).
@@ -51,6 +90,40 @@ ARBOR_INLINE void body_placement(Data<R, Scalar>& d) {
     l.p += B::R_(B::jtrans(js));
   if constexpr (B::parent < 0) {
     d.oMi[i] = l;
+  } else if constexpr (B::aligned) {
+    // scalar by scalar: A = oRp Pl.R (constant entries), oRi = A Rj, oPi = oPp + oRp Pl.p (+ A d)
+    using KRT = typename B::KRT;
+    using Vp = typename B::Vp;
+    constexpr int k = B::k, ia = B::ia, ib = B::ib;
+    const SE3<Scalar>& op = d.oMi[B::parent];
+    SE3<Scalar>& o = d.oMi[i];
+    Scalar A[3][3];
+    for (int r = 0; r < 3; ++r) {
+      const Scalar x0 = op.R(r, 0), x1 = op.R(r, 1), x2 = op.R(r, 2);
+      A[r][0] = sx::krow<Scalar, KRT, 0>(x0, x1, x2);
+      A[r][1] = sx::krow<Scalar, KRT, 1>(x0, x1, x2);
+      A[r][2] = sx::krow<Scalar, KRT, 2>(x0, x1, x2);
+      Scalar p = op.p[r];
+      if constexpr (!B::p_zero) {
+        namespace c = spatial::cst;
+        c::add_scaled<Scalar, c::VEntry<Vp, 0>>(p, x0);
+        c::add_scaled<Scalar, c::VEntry<Vp, 1>>(p, x1);
+        c::add_scaled<Scalar, c::VEntry<Vp, 2>>(p, x2);
+      }
+      if constexpr (!B::revolute)
+        p += A[r][k] * js.d;
+      o.p[r] = p;
+    }
+    for (int r = 0; r < 3; ++r) {
+      o.R(r, k) = A[r][k];
+      if constexpr (B::revolute) {
+        o.R(r, ia) = A[r][ia] * js.c + A[r][ib] * js.s;
+        o.R(r, ib) = A[r][ib] * js.c - A[r][ia] * js.s;
+      } else {
+        o.R(r, ia) = A[r][ia];
+        o.R(r, ib) = A[r][ib];
+      }
+    }
   } else {
     const SE3<Scalar>& op = d.oMi[B::parent];
     SE3<Scalar>& o = d.oMi[i];

@@ -7,6 +7,7 @@
 
 #include "arbor/core/static_for.hpp"
 #include "arbor/dynamics/aba.hpp"
+#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/model/topology.hpp"
@@ -23,8 +24,6 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
   detail::joint_states(d, q);
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, Scalar>;
-    d.Yaba[i] = B::art_inertia();
     constexpr int last = model::subtree_last<R>(i);
     d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
@@ -34,47 +33,42 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
     using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = model::subtree_last<R>(i) - i + 1;
     using Row = Eigen::Matrix<Scalar, 1, L>;
-    using Tri = typename B::template Tri<Row>;
-    B::art_S(d.Yaba[i], d.U[i].f, d.U[i].n);
-    const Scalar Dinv = Scalar(1) / B::ST(d.U[i]);
+    using X = detail::sx::Body<B, Scalar>;
+    if constexpr (detail::sx::last_child<R>(i) < 0)
+      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
+    X::art_S(d.Yaba[i], d.U[i]);
+    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
     d.Dinv[i] = Dinv;
     auto blk = d.Fminv[i].template middleCols<L>(i);
-    Tri f{blk.row(0), blk.row(1), blk.row(2)};
-    Tri t{blk.row(3), blk.row(4), blk.row(5)};
-    Row mrow = B::ST_t(f, t) * Scalar(-Dinv);
+    Row mrow = X::ST_rows(blk) * Scalar(-Dinv);
     mrow[0] = Dinv;  // column i: the unit torque at i itself (no bias force from below)
     d.Minv.row(i).template segment<L>(i) = mrow;
     if constexpr (i + L < n)
       d.Minv.row(i).template tail<n - i - L>().setZero();
     if constexpr (B::parent >= 0) {
       constexpr int p = B::parent;
-      d.Yaba[p] += B::art_project_to_parent(d.joint[i], d.Yaba[i], d.U[i], Dinv);
+      using Init = std::conditional_t<detail::sx::last_child<R>(p) == i,
+                                      spatial::BodyOps<R, p, Scalar>, void>;
+      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[p]);
+      Row f[3], t[3];
       for (int j = 0; j < 3; ++j) {
-        f[j] += mrow * d.U[i].f[j];
-        t[j] += mrow * d.U[i].n[j];
+        f[j] = blk.row(j) + mrow * d.U[i].f[j];
+        t[j] = blk.row(3 + j) + mrow * d.U[i].n[j];
       }
-      B::force_to_parent_t(d.joint[i], f, t);
-      auto pb = d.Fminv[p].template middleCols<L>(i);
-      for (int j = 0; j < 3; ++j) {
-        pb.row(j) += f[j];
-        pb.row(3 + j) += t[j];
-      }
+      X::add_rows_to_parent(d.joint[i], f, t, d.Fminv[p].template middleCols<L>(i));
     }
   });
   // Forward pass: rows i, columns [i, n) of M^-1 and of the acceleration blocks.
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
+    using X = detail::sx::Body<B, Scalar>;
     constexpr int L = n - i;
     using Row = Eigen::Matrix<Scalar, 1, L>;
-    using Tri = typename B::template Tri<Row>;
     Row mrow = d.Minv.row(i).template tail<L>();
-    Tri v, w;
+    Row v[3], w[3];
     if constexpr (B::parent >= 0) {
-      auto pb = d.Fminv[B::parent].template middleCols<L>(i);
-      v = Tri{pb.row(0), pb.row(1), pb.row(2)};
-      w = Tri{pb.row(3), pb.row(4), pb.row(5)};
-      B::motion_to_child_t(d.joint[i], v, w);
+      X::rows_to_child(d.joint[i], d.Fminv[B::parent].template middleCols<L>(i), v, w);
       Row ua = v[0] * d.U[i].f[0];
       for (int j = 1; j < 3; ++j)
         ua += v[j] * d.U[i].f[j];
@@ -87,7 +81,7 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
         w[j].setZero();
       }
     }
-    B::add_S_t(v, w, mrow);
+    X::add_S_rows(v, w, mrow);
     d.Minv.row(i).template tail<L>() = mrow;
     auto blk = d.Fminv[i].template middleCols<L>(i);
     for (int j = 0; j < 3; ++j) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
+#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 
@@ -26,38 +27,44 @@ ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
+    using X = sx::Body<B, Scalar>;
     const JointState<Scalar>& js = d.joint[i];
+    Motion<Scalar> vi, ai;
     if constexpr (B::parent < 0) {
       if constexpr (HasV)
-        d.v[i] = B::S_times(Scalar(v[i]));
-      d.a[i].v = B::linear_to_child(js, -g);
-      d.a[i].w.setZero();
+        vi = B::S_times(Scalar(v[i]));
+      ai.v = X::linear_to_child(js, -g);
+      ai.w.setZero();
     } else {
       if constexpr (HasV) {
-        d.v[i] = B::motion_to_child(js, d.v[B::parent]);
-        B::add_S(d.v[i], Scalar(v[i]));
+        vi = X::to_child(js, d.v[B::parent]);
+        X::add_S(vi, Scalar(v[i]));
       }
-      d.a[i] = B::motion_to_child(js, d.a[B::parent]);
+      ai = X::to_child(js, d.a[B::parent]);
     }
     if constexpr (HasV)
-      d.a[i] += B::cross_S(d.v[i], Scalar(v[i]));
+      X::add_cross_S(ai, vi, Scalar(v[i]));
     if constexpr (HasA)
-      B::add_S(d.a[i], Scalar(a[i]));
-    d.f[i] = B::inertia_times(d.a[i]);
+      X::add_S(ai, Scalar(a[i]));
+    Force<Scalar> fi = X::inertia_times(ai);
     if constexpr (HasV) {
       if constexpr (!B::massless)
-        d.f[i] += spatial::cross(d.v[i], B::inertia_times(d.v[i]));
+        sx::add_to(fi, sx::fcross(vi, X::inertia_times(vi)));
+      d.v[i] = vi;
     }
     if constexpr (HasFext)
-      d.f[i] -= (*fext)[i];
+      fi -= (*fext)[i];
+    d.a[i] = ai;
+    d.f[i] = fi;
   });
   // Backward pass: joint torques, forces to the parents.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    d.tau[i] = B::ST(d.f[i]);
+    using X = sx::Body<B, Scalar>;
+    d.tau[i] = X::ST(d.f[i]);
     if constexpr (B::parent >= 0)
-      d.f[B::parent] += B::force_to_parent(d.joint[i], d.f[i]);
+      X::add_to_parent(d.joint[i], d.f[i], d.f[B::parent]);
   });
 }
 
