@@ -113,8 +113,11 @@ void check(std::uint64_t jacobian_ops, std::uint64_t hessian_ops) {
 
 TEST(AdGeneratedCount, DoublePendulumExecutesExactlyTheEmittedOperations) {
   // The paper's Table 1 (CasADi): J_FD^c 292, J_ID^c 162; the dense duals execute 781 and 437.
-  // FD's Jacobian goes through ID (fd_value 90 + jacobian_at 199: the generator keeps it when
-  // it needs fewer operations than differentiating aba, 307 here).
-  check<ad::ForwardDynamics<R>>(289, 500);
-  check<ad::InverseDynamics<R>>(181, 279);
+  // FD's Jacobian goes through ID (before d149038 fd_value 90 + jacobian_at 199: the generator
+  // keeps it when it needs fewer operations than differentiating aba, 307 here). The pinned sizes
+  // are the generator's output; they change when the traced templates do (d149038, dynamics at the
+  // scalar level: 289 -> 286, 500 -> 642, 181 -> 179; the ID Hessian unchanged): update them
+  // knowingly.
+  check<ad::ForwardDynamics<R>>(286, 642);
+  check<ad::InverseDynamics<R>>(179, 279);
 }
