@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -410,6 +411,27 @@ struct Output {
 inline constexpr int kDefaultChunkOps = 2000;
 /// The chunk length emit_function uses by default (the generator's --chunk-ops=N; 0: never split).
 inline int chunk_ops_setting = kDefaultChunkOps;
+
+/// Consumes a leading `--chunk-ops=N` of a generator program's command line (chunk_ops_setting).
+inline void take_chunk_ops_option(int& argc, char**& argv) {
+  if (argc > 1 && std::strncmp(argv[1], "--chunk-ops=", 12) == 0) {
+    chunk_ops_setting = std::atoi(argv[1] + 12);
+    ++argv;
+    --argc;
+  }
+}
+
+/// Writes text to the file path; false, with a message, when it cannot.
+inline bool write_text(const char* path, const std::string& text) {
+  std::FILE* f = std::fopen(path, "w");
+  if (!f) {
+    std::fprintf(stderr, "arbor-adgen: cannot write %s\n", path);
+    return false;
+  }
+  std::fwrite(text.data(), 1, text.size(), f);
+  std::fclose(f);
+  return true;
+}
 
 /// Emits `template <class S> static void <name>(const S* <in0>, ..., S* <out0>, ...)` computing
 /// the outputs as straight-line code; inputs are the graph's input nodes, input k being element

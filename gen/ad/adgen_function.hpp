@@ -9,7 +9,7 @@
 #include <arbor/ad/user_function.hpp>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -98,11 +98,7 @@ std::string generate_user_function(const std::string& name, FunctionStats& st) {
 template <ad::UserFunction... F>
 int generate_functions(int argc, char** argv, const std::vector<std::string>& names,
                        const std::string& include) {
-  if (argc > 1 && std::strncmp(argv[1], "--chunk-ops=", 12) == 0) {
-    chunk_ops_setting = std::atoi(argv[1] + 12);
-    ++argv;
-    --argc;
-  }
+  take_chunk_ops_option(argc, argv);
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s [--chunk-ops=N] <header.hpp>\n", argv[0]);
     return 2;
@@ -121,13 +117,8 @@ int generate_functions(int argc, char** argv, const std::vector<std::string>& na
       ">\n\n#include \"arbor/ad/user_function.hpp\"\n#include \"arbor/core/math.hpp\"\n\n"
       "namespace arbor::ad {\n\n" +
       code + "}  // namespace arbor::ad\n";
-  std::FILE* f = std::fopen(argv[1], "w");
-  if (!f) {
-    std::fprintf(stderr, "arbor-adgen: cannot write %s\n", argv[1]);
+  if (!write_text(argv[1], text))
     return 1;
-  }
-  std::fwrite(text.data(), 1, text.size(), f);
-  std::fclose(f);
   for (const auto& s : stats)
     std::printf("arbor-adgen %s: primal %ld, J forward %ld reverse %ld -> %s %ld\n", s.name.c_str(),
                 s.primal_ops, s.forward_ops, s.reverse_ops, s.mode, s.jacobian_ops);

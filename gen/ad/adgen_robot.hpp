@@ -286,11 +286,7 @@ void frame_function(std::string& code, const std::string& robot, std::vector<Sta
 /// The header for robot R (struct name `robot`, fully qualified; header `robot_header`).
 template <class R>
 int generate(int argc, char** argv, const std::string& robot, const std::string& robot_header) {
-  if (argc > 1 && std::strncmp(argv[1], "--chunk-ops=", 12) == 0) {
-    chunk_ops_setting = std::atoi(argv[1] + 12);
-    ++argv;
-    --argc;
-  }
+  take_chunk_ops_option(argc, argv);
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s [--chunk-ops=N] <jacobians.hpp> [<hessians.hpp>]\n", argv[0]);
     return 2;
@@ -348,13 +344,8 @@ int generate(int argc, char** argv, const std::string& robot, const std::string&
         std::to_string(secs) + " s.\n#pragma once\n\n#include <" + robot_header +
         ">\n\n#include \"arbor/ad/generated.hpp\"\n\nnamespace arbor::ad {\n\n" + body +
         "}  // namespace arbor::ad\n";
-    std::FILE* f = std::fopen(path, "w");
-    if (!f) {
-      std::fprintf(stderr, "arbor-adgen: cannot write %s\n", path);
+    if (!write_text(path, text))
       return false;
-    }
-    std::fwrite(text.data(), 1, text.size(), f);
-    std::fclose(f);
     std::printf("arbor-adgen %s: %s, %zu bytes\n", robot.c_str(), path, text.size());
     return true;
   };

@@ -84,11 +84,11 @@ struct UserFunctionHandle {
   template <class Tag, class T>
   void value_and_jacobian(const VecN<T, nin>& x, VecN<T, nout>& y,
                           Eigen::Matrix<T, nout, nin>& J) const {
-    const auto p = parameters<T>();
     if constexpr (std::is_same_v<Tag, Generated>) {
       static_assert(GeneratedFunction<F>::available,
                     "no generated code for this user function: list it in "
                     "arbor_add_function_ad(... FUNCTIONS ...) and include the generated header");
+      const auto p = parameters<T>();
       GeneratedFunction<F>::jacobian(x.data(), p.data(), y.data(), J.data());
     } else {
       static_assert(std::is_same_v<Tag, AutoDiff>,
@@ -97,9 +97,7 @@ struct UserFunctionHandle {
       D xd[nin];
       for (int k = 0; k < nin; ++k)
         xd[k] = D::variable(x[k], k);
-      std::array<D, std::size_t(F::nparam)> pd;
-      for (int k = 0; k < F::nparam; ++k)
-        pd[std::size_t(k)] = D(p[std::size_t(k)]);
+      const auto pd = parameters<T, D>();
       D yd[nout];
       F::template eval<D>(xd, pd.data(), yd);
       for (int i = 0; i < nout; ++i) {
@@ -111,11 +109,12 @@ struct UserFunctionHandle {
   }
 
  private:
-  template <class T>
-  std::array<T, std::size_t(F::nparam)> parameters() const {
-    std::array<T, std::size_t(F::nparam)> p;
+  /// The parameters as constants of type U (through T: U may be a dual of T).
+  template <class T, class U = T>
+  std::array<U, std::size_t(F::nparam)> parameters() const {
+    std::array<U, std::size_t(F::nparam)> p;
     for (int k = 0; k < F::nparam; ++k)
-      p[std::size_t(k)] = T(params[k]);
+      p[std::size_t(k)] = U(T(params[k]));
     return p;
   }
 };

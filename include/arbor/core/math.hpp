@@ -6,6 +6,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include "arbor/core/config.hpp"
+
 namespace arbor {
 
 namespace math_detail {
@@ -47,17 +49,10 @@ constexpr double inv_factorial(int n) {
 /// (tests/core/math_test.cpp, 1.2 M arguments and the doubles next to multiples of pi/2): within
 /// 1 ulp of sin and cos; -0.0 keeps its sign. Beyond |x| <= 1e5, or for non-finite x: std::sin
 /// and std::cos.
-inline void sincos_double(double x, double& s, double& c) {
-  if (!(x <= 1e5 && x >= -1e5)) {  // also NaN
-    s = std::sin(x);
-    c = std::cos(x);
-    return;
-  }
-  if (x < 0x1p-26 && x > -0x1p-26) {  // sin x = x and cos x = 1 to rounding (keeps -0.0)
-    s = x;
-    c = 1.0;
-    return;
-  }
+/// sincos_double's general path for 2^-26 <= |x| <= 1e5, without branches (the quadrant's
+/// permutation and signs as selects), so that a loop over it runs across SIMD lanes
+/// (dynamics/sincos_batch.hpp).
+ARBOR_INLINE void sincos_reduced(double x, double& s, double& c) {
   constexpr double two_over_pi = 0x1.45f306dc9c883p-1;
   constexpr double pi2_1 = 0x1.921fb54400000p+0;   // pi/2, first 33 bits
   constexpr double pi2_2 = 0x1.0b4611a600000p-34;  // next 33 bits
@@ -86,24 +81,25 @@ inline void sincos_double(double x, double& s, double& c) {
   const double sr = rh + (rh * (z * ps) + rl * (1.0 - hz));
   const double w = 1.0 - hz;  // rounded; its rounding error is added back
   const double cr = w + (((1.0 - w) - hz) + ((z * z) * pc - rh * rl));
-  switch (k & 3) {
-    case 0:
-      s = sr;
-      c = cr;
-      break;
-    case 1:
-      s = cr;
-      c = -sr;
-      break;
-    case 2:
-      s = -sr;
-      c = -cr;
-      break;
-    default:
-      s = -cr;
-      c = sr;
-      break;
+  // quadrant k mod 4: (sr, cr), (cr, -sr), (-sr, -cr), (-cr, sr)
+  const double s0 = (k & 1) ? cr : sr;
+  const double c0 = (k & 1) ? sr : cr;
+  s = (k & 2) ? -s0 : s0;
+  c = ((k + 1) & 2) ? -c0 : c0;
+}
+
+inline void sincos_double(double x, double& s, double& c) {
+  if (!(x <= 1e5 && x >= -1e5)) {  // also NaN
+    s = std::sin(x);
+    c = std::cos(x);
+    return;
   }
+  if (x < 0x1p-26 && x > -0x1p-26) {  // sin x = x and cos x = 1 to rounding (keeps -0.0)
+    s = x;
+    c = 1.0;
+    return;
+  }
+  sincos_reduced(x, s, c);
 }
 
 }  // namespace detail
