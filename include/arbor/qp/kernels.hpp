@@ -10,6 +10,7 @@
 //   gemm_nt_lower<M, NC>  lower part of C(M x NC) +-= P Q', k terms           ~(M-NC/2) NC k
 //   potrf_lower<n>        A = L L' in place (lower triangle), left-looking     ~n^3/6
 //   trsm_rlt<m, n>        X <- X L^-T (X m x n, L lower n x n)                 ~m n^2/2
+//   transpose<M, N>       B = A' (copy by 4 x 4 tiles)                         -
 // The triangular solves by a 4 x 4 diagonal block (Cholesky panel, X L^-T) follow the block
 // update, one pass over the rows per column. Diagonal blocks of the lower-triangle kernels are
 // computed whole. Cost measured with GCC 12 -O3, SSE2 only (bench/qp/RESULTS.md): the 4 x 4 block
@@ -44,10 +45,14 @@ constexpr int packed_size(int n) {
   return n * (n + 1) / 2;
 }
 
+/// What the register-blocked kernels do with c: c -= P Q' (false, 0), c += P Q' (true, 1) or
+/// c = P Q' (assign: c is not read).
+inline constexpr int assign = 2;
+
 /// c(r, j) (+ or -)= sum_{i<k} p(r, i) q(j, i) for r < R, j < C, with p(r, i) = p[r + i PI],
-/// q(j, i) = q[j QC + i QI], c(r, j) = c[r + j LDC]. The R x C sums are accumulated in registers
-/// and added to c once.
-template <int R, int C, int PI, int QI, int QC, int LDC, bool Add, typename Scalar>
+/// q(j, i) = q[j QC + i QI], c(r, j) = c[r + j LDC] (or = with Add = assign). The R x C sums are
+/// accumulated in registers and added to c once.
+template <int R, int C, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
 inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   Scalar acc[C][R];
   for (int j = 0; j < C; ++j)
@@ -64,7 +69,9 @@ inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   }
   for (int j = 0; j < C; ++j) {
     for (int r = 0; r < R; ++r) {
-      if constexpr (Add)
+      if constexpr (Add == assign)
+        c[r + j * LDC] = acc[j][r];
+      else if constexpr (Add)
         c[r + j * LDC] += acc[j][r];
       else
         c[r + j * LDC] -= acc[j][r];
@@ -72,11 +79,34 @@ inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   }
 }
 
+/// b(j, i) = a(i, j) for i < M, j < N: a transposed copy (a and b column-major, leading
+/// dimensions LDA and LDB), by 4 x 4 tiles of fixed size (unrolled: register permutes with
+/// vectors, ~1 instruction per scalar with AVX2 against ~3 for a loop per scalar).
+template <int M, int N, int LDA, int LDB, typename Scalar>
+inline void transpose(const Scalar* a, Scalar* b) {
+  constexpr int m4 = M - M % 4, n4 = N - N % 4;
+  for (int i0 = 0; i0 < m4; i0 += 4) {
+    for (int j0 = 0; j0 < n4; j0 += 4) {
+      const Scalar* at = a + i0 + j0 * LDA;
+      Scalar* bt = b + j0 + i0 * LDB;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j)
+          bt[j + i * LDB] = at[i + j * LDA];
+    }
+    for (int j = n4; j < N; ++j)
+      for (int i = i0; i < i0 + 4; ++i)
+        b[j + i * LDB] = a[i + j * LDA];
+  }
+  for (int i = m4; i < M; ++i)
+    for (int j = 0; j < N; ++j)
+      b[j + i * LDB] = a[i + j * LDA];
+}
+
 /// Columns j0..j0+C-1 of c, rows r0..M-1 (r0 a multiple of nb; blocks of mb rows, then of nb,
 /// the last one M % nb): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), with the strides of gemm_nt_block
 /// and absolute indices (c, p and q point at entry (0, 0)). With r0 = j0 on a square c the entries
 /// above the diagonal of the diagonal block are written too (scratch values).
-template <int M, int C, int PI, int QI, int QC, int LDC, bool Add, typename Scalar>
+template <int M, int C, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
 inline void gemm_nt_cols(Scalar* c, const Scalar* p, const Scalar* q, int j0, int r0, int k) {
   constexpr int tail = (M % nb);
   int r = r0;
@@ -95,7 +125,7 @@ inline void gemm_nt_cols(Scalar* c, const Scalar* p, const Scalar* q, int j0, in
 /// Lower part of the columns 0..NC-1 of c (rows j..M-1 of column j, M >= NC; the diagonal
 /// blocks also above the diagonal): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), strides as in
 /// gemm_nt_block.
-template <int M, int NC, int PI, int QI, int QC, int LDC, bool Add, typename Scalar>
+template <int M, int NC, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
 void gemm_nt_lower(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   constexpr int tail = NC % nb;
   int j = 0;

@@ -45,7 +45,9 @@
 // is a full one.
 // Memory (scalars): N NW (NW+1)/2 + NX (NX+1)/2 for the factor (no off-diagonal blocks: ~49 KB
 // less than ocp_backend.hpp at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
-// scratch, T and an unpacked Lxx during a stage's factorization.
+// scratch, [B A]', T' and an unpacked Lxx during a stage's factorization (the transposed copies
+// by kernels::transpose, T' assigned by the product, M_k's upper part not filled where the kernels
+// do not read it).
 #pragma once
 
 #include <Eigen/Core>
@@ -605,8 +607,11 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     const auto& s = p->stage[k];
     MatW d;  // M_k in (u, x) order, then L_k (full square scratch)
     d.template topLeftCorner<NU, NU>() = s.R;
-    d.template bottomLeftCorner<NX, NU>() = s.S.transpose();
-    d.template topRightCorner<NU, NX>() = s.S;
+    // S' below R; the upper part (S) is read only as scratch, by a diagonal block of the kernels
+    // that straddles u and x
+    transpose<NU, NX, NU, NW>(s.S.data(), d.data() + NU);
+    if constexpr (NU % nb != 0)
+      d.template topRightCorner<NU, NX>() = s.S;
     d.template bottomRightCorner<NX, NX>() = s.Q;
     const ConstraintState* wsb = ws + k * NW;
     for (int i = 0; i < NX; ++i)
@@ -640,17 +645,17 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     else
       unpack_tail<NW>(l_stage[k + 1].data(), lxx);
     Eigen::Matrix<Scalar, NW, NX> ft, tt;
-    ft.template topRows<NU>() = s.B.transpose();
-    ft.template bottomRows<NX>() = s.A.transpose();
-    tt.setZero();
+    transpose<NX, NU, NX, NW>(s.B.data(), ft.data());
+    transpose<NX, NX, NX, NW>(s.A.data(), ft.data() + NU);
     constexpr int full = NX - NX % nb;
     for (int i0 = 0; i0 < full; i0 += nb) {
-      gemm_nt_cols<NW, nb, NW, 1, NX, NW, true>(tt.data() + i0 * NW, ft.data() + i0 * NW,
-                                                lxx.data() + i0 * (NX + 1), 0, 0, NX - i0);
+      gemm_nt_cols<NW, nb, NW, 1, NX, NW, assign>(tt.data() + i0 * NW, ft.data() + i0 * NW,
+                                                  lxx.data() + i0 * (NX + 1), 0, 0, NX - i0);
     }
     if constexpr (NX % nb > 0) {
-      gemm_nt_cols<NW, NX % nb, NW, 1, NX, NW, true>(tt.data() + full * NW, ft.data() + full * NW,
-                                                     lxx.data() + full * (NX + 1), 0, 0, NX - full);
+      gemm_nt_cols<NW, NX % nb, NW, 1, NX, NW, assign>(tt.data() + full * NW, ft.data() + full * NW,
+                                                       lxx.data() + full * (NX + 1), 0, 0,
+                                                       NX - full);
     }
     gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), tt.data(), tt.data(), NX);
     // fixed variables (working exact bounds) leave the recursion: unit row and column
