@@ -3,11 +3,14 @@
 // 5 rnea_derivatives, 6 aba_derivatives) of one robot (ARBOR_UT_ROBOT_HEADER, ARBOR_UT_STRUCT) N
 // times on a cycle of 16 random inputs, as a user would (no benchmark framework, the library's own
 // inlining), the method of ../shared/reference/pinocchio_counts.md: instructions per call =
-// (I(1200) - I(200)) / 1000 under callgrind.
+// (I(1200) - I(200)) / 1000 under callgrind. With a second argument ("time"), the CPU time of the
+// call loop per call is printed to stderr in nanoseconds (bench/dynamics/user_tu_times.sh).
 #include ARBOR_UT_ROBOT_HEADER
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <ctime>
 
 #include "arbor/derivatives/derivatives.hpp"
 #include "arbor/dynamics/dynamics.hpp"
@@ -34,6 +37,8 @@ int main(int argc, char** argv) {
       tau[k][i] = 10.0 * next();
     }
   double sink = 0;
+  timespec t0{}, t1{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t0);
   for (int c = 0; c < calls; ++c) {
     const int k = c & 15;
 #if ARBOR_UT_ALGO_ID == 1
@@ -54,6 +59,10 @@ int main(int argc, char** argv) {
 #error "ARBOR_UT_ALGO_ID: 1..6"
 #endif
   }
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t1);
+  if (argc > 2 && std::strcmp(argv[2], "time") == 0)
+    std::fprintf(stderr, "%.3f\n",
+                 (double(t1.tv_sec - t0.tv_sec) * 1e9 + double(t1.tv_nsec - t0.tv_nsec)) / calls);
   std::printf("%g\n", sink);
   return 0;
 }
