@@ -43,21 +43,19 @@ State state() {
   return st;
 }
 
-/// lambda' [dtau/dq, dtau/dv, M] at z = (q, v, a).
-[[gnu::noinline]] Vec3n id_gradient(const Vec3n& z, const Vec& lambda) {
-  const Vec q = z.segment<n>(0), v = z.segment<n>(n), a = z.segment<n>(2 * n);
-  arbor::rnea_derivatives<R>(data, deriv, q, v, a);
+/// lambda' [dtau/dq, dtau/dv, M] at x = (q, v, a) (ID) or lambda' [dddq/dq, dddq/dv, M^-1] at
+/// x = (q, v, tau) (FD), from the first-order routines.
+template <bool FD>
+[[gnu::noinline]] Vec3n gradient(const Vec3n& x, const Vec& lambda) {
+  const Vec q = x.segment<n>(0), v = x.segment<n>(n), u = x.segment<n>(2 * n);
   Vec3n r;
-  r << deriv.dtau_dq.transpose() * lambda, deriv.dtau_dv.transpose() * lambda, data.M * lambda;
-  return r;
-}
-
-/// lambda' [dddq/dq, dddq/dv, M^-1] at x = (q, v, tau).
-[[gnu::noinline]] Vec3n fd_gradient(const Vec3n& x, const Vec& lambda) {
-  const Vec q = x.segment<n>(0), v = x.segment<n>(n), tau = x.segment<n>(2 * n);
-  arbor::aba_derivatives<R>(data, deriv, q, v, tau);
-  Vec3n r;
-  r << deriv.ddq_dq.transpose() * lambda, deriv.ddq_dv.transpose() * lambda, data.Minv * lambda;
+  if constexpr (FD) {
+    arbor::aba_derivatives<R>(data, deriv, q, v, u);
+    r << deriv.ddq_dq.transpose() * lambda, deriv.ddq_dv.transpose() * lambda, data.Minv * lambda;
+  } else {
+    arbor::rnea_derivatives<R>(data, deriv, q, v, u);
+    r << deriv.dtau_dq.transpose() * lambda, deriv.dtau_dv.transpose() * lambda, data.M * lambda;
+  }
   return r;
 }
 
@@ -79,38 +77,38 @@ double rel_error(const A& x, const B& ref) {
   return (x - ref).cwiseAbs().maxCoeff() / std::fmax(1.0, ref.cwiseAbs().maxCoeff());
 }
 
+/// so (just computed at x) against the first-order routines: gradient (gradient_tol), exact
+/// symmetry, the zero u-u and u-v blocks, the Hessian against central differences (1e-6).
+template <bool FD>
+void check_against_first_order(const Vec3n& x, const Vec& lambda, double gradient_tol) {
+  EXPECT_LE(rel_error(so.gradient, gradient<FD>(x, lambda)), gradient_tol);
+  EXPECT_TRUE(so.hessian == so.hessian.transpose());
+  EXPECT_TRUE((so.hessian.bottomRightCorner<n, 2 * n>().array() == 0).all());
+  const Mat3n H = so.hessian;
+  central_diff(x, [&](const Vec3n& y) { return gradient<FD>(y, lambda); });
+  EXPECT_LE(rel_error(H, fd_matrix), 1e-6);
+}
+
 TEST(KinovaGen3, SecondOrderIdMatchesDifferencesOfFirstOrder) {
   const State s = state();
-  Vec3n z;
-  z << s.q, s.v, s.a;
   {
     arbor::test::NoAllocScope guard;
     arbor::rnea_second_order_derivatives<R>(data, so, s.q, s.v, s.a, s.lambda);
   }
-  const Vec3n grad = id_gradient(z, s.lambda);
-  EXPECT_LE(rel_error(so.gradient, grad), 1e-11);
-  EXPECT_TRUE(so.hessian == so.hessian.transpose());
-  const Mat3n H = so.hessian;
-  central_diff(z, [&](const Vec3n& x) { return id_gradient(x, s.lambda); });
-  EXPECT_LE(rel_error(H, fd_matrix), 1e-6);
-  EXPECT_TRUE((H.bottomRightCorner<n, 2 * n>().array() == 0).all());
+  Vec3n z;
+  z << s.q, s.v, s.a;
+  check_against_first_order<false>(z, s.lambda, 1e-11);
 }
 
 TEST(KinovaGen3, SecondOrderFdMatchesDifferencesOfFirstOrder) {
   const State s = state();
   const Vec tau = 10.0 * s.a;
-  Vec3n x;
-  x << s.q, s.v, tau;
   {
     arbor::test::NoAllocScope guard;
     arbor::aba_second_order_derivatives<R>(data, deriv, so, s.q, s.v, tau, s.lambda);
   }
-  const Vec3n grad = fd_gradient(x, s.lambda);
-  EXPECT_LE(rel_error(so.gradient, grad), 1e-10);
-  EXPECT_TRUE(so.hessian == so.hessian.transpose());
-  const Mat3n H = so.hessian;
-  central_diff(x, [&](const Vec3n& y) { return fd_gradient(y, s.lambda); });
-  EXPECT_LE(rel_error(H, fd_matrix), 1e-6);
-  EXPECT_TRUE((H.bottomRightCorner<n, 2 * n>().array() == 0).all());
+  Vec3n x;
+  x << s.q, s.v, tau;
+  check_against_first_order<true>(x, s.lambda, 1e-10);
 }
 }  // namespace
