@@ -45,14 +45,13 @@ constexpr int packed_size(int n) {
   return n * (n + 1) / 2;
 }
 
-/// What the register-blocked kernels do with c: c -= P Q' (false, 0), c += P Q' (true, 1) or
-/// c = P Q' (assign: c is not read).
-inline constexpr int assign = 2;
+/// What the register-blocked kernels do with c: c -= P Q', c += P Q', or c = P Q' (c not read).
+enum class Update { subtract, add, assign };
 
 /// c(r, j) (+ or -)= sum_{i<k} p(r, i) q(j, i) for r < R, j < C, with p(r, i) = p[r + i PI],
-/// q(j, i) = q[j QC + i QI], c(r, j) = c[r + j LDC] (or = with Add = assign). The R x C sums are
+/// q(j, i) = q[j QC + i QI], c(r, j) = c[r + j LDC] (or = with Update::assign). The R x C sums are
 /// accumulated in registers and added to c once.
-template <int R, int C, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
+template <int R, int C, int PI, int QI, int QC, int LDC, Update U, typename Scalar>
 inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   Scalar acc[C][R];
   for (int j = 0; j < C; ++j)
@@ -69,9 +68,9 @@ inline void gemm_nt_block(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   }
   for (int j = 0; j < C; ++j) {
     for (int r = 0; r < R; ++r) {
-      if constexpr (Add == assign)
+      if constexpr (U == Update::assign)
         c[r + j * LDC] = acc[j][r];
-      else if constexpr (Add)
+      else if constexpr (U == Update::add)
         c[r + j * LDC] += acc[j][r];
       else
         c[r + j * LDC] -= acc[j][r];
@@ -107,33 +106,33 @@ inline void transpose(const Scalar* a, Scalar* b) {
 /// the last one M % nb): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), with the strides of gemm_nt_block
 /// and absolute indices (c, p and q point at entry (0, 0)). With r0 = j0 on a square c the entries
 /// above the diagonal of the diagonal block are written too (scratch values).
-template <int M, int C, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
+template <int M, int C, int PI, int QI, int QC, int LDC, Update U, typename Scalar>
 inline void gemm_nt_cols(Scalar* c, const Scalar* p, const Scalar* q, int j0, int r0, int k) {
   constexpr int tail = (M % nb);
   int r = r0;
   if constexpr (mb > nb) {
     for (; r + mb <= M; r += mb)
-      gemm_nt_block<mb, C, PI, QI, QC, LDC, Add>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
+      gemm_nt_block<mb, C, PI, QI, QC, LDC, U>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
   }
   for (; r + nb <= M; r += nb)
-    gemm_nt_block<nb, C, PI, QI, QC, LDC, Add>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
+    gemm_nt_block<nb, C, PI, QI, QC, LDC, U>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
   if constexpr (tail > 0) {
     if (r < M)
-      gemm_nt_block<tail, C, PI, QI, QC, LDC, Add>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
+      gemm_nt_block<tail, C, PI, QI, QC, LDC, U>(c + r + j0 * LDC, p + r, q + j0 * QC, k);
   }
 }
 
 /// Lower part of the columns 0..NC-1 of c (rows j..M-1 of column j, M >= NC; the diagonal
 /// blocks also above the diagonal): c(r, j) +-= sum_{i<k} p(r, i) q(j, i), strides as in
 /// gemm_nt_block.
-template <int M, int NC, int PI, int QI, int QC, int LDC, int Add, typename Scalar>
+template <int M, int NC, int PI, int QI, int QC, int LDC, Update U, typename Scalar>
 void gemm_nt_lower(Scalar* c, const Scalar* p, const Scalar* q, int k) {
   constexpr int tail = NC % nb;
   int j = 0;
   for (; j + nb <= NC; j += nb)
-    gemm_nt_cols<M, nb, PI, QI, QC, LDC, Add>(c, p, q, j, j, k);
+    gemm_nt_cols<M, nb, PI, QI, QC, LDC, U>(c, p, q, j, j, k);
   if constexpr (tail > 0)
-    gemm_nt_cols<M, tail, PI, QI, QC, LDC, Add>(c, p, q, j, j, k);
+    gemm_nt_cols<M, tail, PI, QI, QC, LDC, U>(c, p, q, j, j, k);
 }
 
 /// Column j0+c of the left-looking Cholesky after its update by the columns before j0: the
@@ -197,12 +196,12 @@ bool potrf_lower(Scalar* a) {
   constexpr int tail = n % nb;
   int j = 0;
   for (; j + nb <= n; j += nb) {
-    gemm_nt_cols<n, nb, n, n, 1, n, false>(a, a, a, j, j, j);
+    gemm_nt_cols<n, nb, n, n, 1, n, Update::subtract>(a, a, a, j, j, j);
     if (!potrf_panel<n, nb>(a, j))
       return false;
   }
   if constexpr (tail > 0) {
-    gemm_nt_cols<n, tail, n, n, 1, n, false>(a, a, a, j, j, j);
+    gemm_nt_cols<n, tail, n, n, 1, n, Update::subtract>(a, a, a, j, j, j);
     if (!potrf_panel<n, tail>(a, j))
       return false;
   }
@@ -247,11 +246,11 @@ void trsm_rlt(Scalar* x, const Scalar* l) {
   constexpr int tail = n % nb;
   int j = 0;
   for (; j + nb <= n; j += nb) {
-    gemm_nt_cols<m, nb, m, n, 1, m, false>(x, x, l, j, 0, j);
+    gemm_nt_cols<m, nb, m, n, 1, m, Update::subtract>(x, x, l, j, 0, j);
     trsm_panel<m, n, nb>(x, l, j);
   }
   if constexpr (tail > 0) {
-    gemm_nt_cols<m, tail, m, n, 1, m, false>(x, x, l, j, 0, j);
+    gemm_nt_cols<m, tail, m, n, 1, m, Update::subtract>(x, x, l, j, 0, j);
     trsm_panel<m, n, tail>(x, l, j);
   }
 }

@@ -462,14 +462,14 @@ struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
         for (int i = 0; i < NX; ++i)
           x(i, NX + c) = wd[i] * s.B(i, c);
     }
-    gemm_nt_lower<NW, NW, NW, 1, NX, NW, false>(d.data(), t.data(), x.data(), NX);
+    gemm_nt_lower<NW, NW, NW, 1, NX, NW, Update::subtract>(d.data(), t.data(), x.data(), NX);
     if (k > 0) {
       // x corner: + E_{k-1} - X_{k-1} X_{k-1}'
       const Scalar* wp = wa.data() + (k - 1) * (NX + NG);
       for (int c = 0; c < NX; ++c)
         d(c, c) += wp[c];
       const Scalar* xp = l_off[k - 1].data();
-      gemm_nt_lower<NX, NX, NX, NX, 1, NW, false>(d.data(), xp, xp, NW);
+      gemm_nt_lower<NX, NX, NX, NX, 1, NW, Update::subtract>(d.data(), xp, xp, NW);
     }
     if (!potrf_lower<NW>(d.data()))
       return false;
@@ -497,7 +497,7 @@ struct OcpBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       add_rank_one_lower(d, a, wa(rg + j));
     }
     const Scalar* xp = l_off[N - 1].data();
-    gemm_nt_lower<NX, NX, NX, NX, 1, NX, false>(d.data(), xp, xp, NW);
+    gemm_nt_lower<NX, NX, NX, NX, 1, NX, Update::subtract>(d.data(), xp, xp, NW);
     if (!potrf_lower<NX>(d.data()))
       return false;
     pack_lower<NX>(d.data(), l_term.data());

@@ -635,7 +635,7 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
         ++m;
       }
       if (m > 0)
-        gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), pa.data(), pw.data(), m);
+        gemm_nt_lower<NW, NW, NW, NW, 1, NW, Update::add>(d.data(), pa.data(), pw.data(), m);
     }
     // + F' P_{k+1} F = T' T, T = Lxx_{k+1}' F, F = [B A]; tt = T' (NW x NX), built as
     // tt = F' Lxx_{k+1}: tt(c, i) = sum_{r >= i} F(r, c) Lxx(r, i), by blocks of 4 columns i
@@ -649,15 +649,15 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     transpose<NX, NX, NX, NW>(s.A.data(), ft.data() + NU);
     constexpr int full = NX - NX % nb;
     for (int i0 = 0; i0 < full; i0 += nb) {
-      gemm_nt_cols<NW, nb, NW, 1, NX, NW, assign>(tt.data() + i0 * NW, ft.data() + i0 * NW,
-                                                  lxx.data() + i0 * (NX + 1), 0, 0, NX - i0);
+      gemm_nt_cols<NW, nb, NW, 1, NX, NW, Update::assign>(
+          tt.data() + i0 * NW, ft.data() + i0 * NW, lxx.data() + i0 * (NX + 1), 0, 0, NX - i0);
     }
     if constexpr (NX % nb > 0) {
-      gemm_nt_cols<NW, NX % nb, NW, 1, NX, NW, assign>(tt.data() + full * NW, ft.data() + full * NW,
-                                                       lxx.data() + full * (NX + 1), 0, 0,
-                                                       NX - full);
+      gemm_nt_cols<NW, NX % nb, NW, 1, NX, NW, Update::assign>(
+          tt.data() + full * NW, ft.data() + full * NW, lxx.data() + full * (NX + 1), 0, 0,
+          NX - full);
     }
-    gemm_nt_lower<NW, NW, NW, NW, 1, NW, true>(d.data(), tt.data(), tt.data(), NX);
+    gemm_nt_lower<NW, NW, NW, NW, 1, NW, Update::add>(d.data(), tt.data(), tt.data(), NX);
     // fixed variables (working exact bounds) leave the recursion: unit row and column
     for (int j = 0; j < (k == 0 ? NW : NU); ++j) {  // (x_0 only in stage 0)
       if (ws[flat_bound(k, j)] != ConstraintState::inactive) {
