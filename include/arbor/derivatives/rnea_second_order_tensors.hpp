@@ -1,0 +1,159 @@
+// arbor: the four n x n x n second-order tensors of inverse dynamics tau = ID(q, v, a), as
+// Pinocchio's ComputeRNEASecondOrderDerivatives gives them: d2tau/dq2, d2tau/dv2, d2tau/dq dv and
+// d2tau/da dq (index convention in SecondOrderTensors). Slice i is the Hessian of tau_i =
+// e_i' ID, i.e. the contracted second-order sweep of rnea_second_order.hpp with lambda = e_i:
+// the lambda-independent quantities (placements, joint columns, velocities, accelerations, dS,
+// ddS, world inertias and the body terms of Y, Yd, h, F) are computed once, then per output i
+// only the lambda-dependent ones (mu_k = S_i on the subtree of joint i, 0 elsewhere; dM, L, N,
+// Ydm) and the backward sweep. Cost: n backward sweeps of O(n d) each, O(n^2 d) in all (d: tree
+// depth), plus copying 4 n^3 entries; no allocation. docs/second_order.md, "The four tensors".
+#pragma once
+
+#include <array>
+
+#include "arbor/derivatives/rnea_second_order.hpp"
+#include "arbor/derivatives/second_order_data.hpp"
+
+namespace arbor {
+
+/// The second-order tensors of inverse dynamics for robot R and scalar Scalar_, and the
+/// lambda-independent work arrays of rnea_second_order_tensors. Fixed size, default
+/// constructible, no allocation (4 n^3 scalars of results: mind the stack for large robots).
+///
+/// Convention (Pinocchio's Tensor3x T(i, j, k), tau index i first; here slice [i], entry (j, k)):
+///   - d2tau_dqdq[i](j, k) = d^2 tau_i / dq_j dq_k   (symmetric in j, k)
+///   - d2tau_dvdv[i](j, k) = d^2 tau_i / dv_j dv_k   (symmetric in j, k; independent of a)
+///   - d2tau_dqdv[i](j, k) = d^2 tau_i / dq_j dv_k   (q index j, v index k: the j-k block of
+///     d/dv_k (dtau/dq), as Pinocchio's unit test builds it by finite differences in v)
+///   - d2tau_dadq[i](j, k) = d^2 tau_i / da_j dq_k = d M(i, j) / dq_k   (independent of v, a)
+/// The other second derivatives vanish (ID is linear in a).
+template <class R, class Scalar_ = double>
+struct SecondOrderTensors {
+  static constexpr int nb = R::nb;  ///< bodies
+  static constexpr int nv = R::nv;  ///< DoF
+  using Scalar = Scalar_;
+  using Tensor = std::array<MatN<Scalar, nv>, nv>;  ///< slice i: the (j, k) matrix of tau_i
+
+  Tensor d2tau_dqdq;  ///< [i](j, k) = d^2 tau_i / dq_j dq_k
+  Tensor d2tau_dvdv;  ///< [i](j, k) = d^2 tau_i / dv_j dv_k
+  Tensor d2tau_dqdv;  ///< [i](j, k) = d^2 tau_i / dq_j dv_k
+  Tensor d2tau_dadq;  ///< [i](j, k) = d^2 tau_i / da_j dq_k
+
+  std::array<Inertia<Scalar>, nb> Y;                ///< composite inertias (world frame)
+  std::array<spatial::InertiaRate<Scalar>, nb> Yd;  ///< subtree sums of v x* I - I v x
+  std::array<Force<Scalar>, nb> h;                  ///< composite momenta sum I v
+  std::array<Force<Scalar>, nb> F;                  ///< composite net forces sum I a + v x* I v
+};
+
+namespace detail {
+
+/// Writes zero into column j of a RowBlock.
+template <class Blk>
+ARBOR_INLINE void tens_zero_col(Blk& blk, int j) {
+  blk.col(j).setZero();
+}
+
+/// Caches joint k's lambda-independent subtree sums (composites, after the lambda = 0 sweep).
+template <class R, int k, class Scalar>
+ARBOR_INLINE void tens_cache_body(const SecondOrderData<R, Scalar>& s,
+                                  SecondOrderTensors<R, Scalar>& t) {
+  t.Y[k] = s.Y[k];
+  t.Yd[k] = s.Yd[k];
+  t.h[k] = s.h[k];
+  t.F[k] = s.F[k];
+}
+
+/// The backward step of joint k for lambda = e_i. Joints neither in the subtree of i nor
+/// ancestors of i have L = N = Ydm = 0 and dM = 0, so their own Hessian entries vanish and their
+/// Kt, Ka, Wv columns are zero (Km, Wm, P do not depend on lambda and stay from the lambda = 0
+/// sweep): only those columns are cleared. For the others the subtree sums are closed forms of
+/// the cached composites (mu_m = S_i on the whole subtree of k when k is in the subtree of i; the
+/// sums of i itself when k is an ancestor), then the contracted backward step runs (whose
+/// additions into the parent are overwritten when the parent's turn comes).
+template <class R, int k, class Scalar>
+ARBOR_INLINE void tens_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s,
+                                     const SecondOrderTensors<R, Scalar>& t, int i,
+                                     const Motion<Scalar>& Si) {
+  using B = spatial::BodyOps<R, k, Scalar>;
+  using W = WorldInertia<R, k, Scalar>;
+  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
+  const bool above = model::support<R>[i][k];  // k is i or an ancestor of i
+  if (!below && !above) {
+    tens_zero_col(s.Kt, k);
+    tens_zero_col(s.Ka, k);
+    tens_zero_col(s.Wv, k);
+    return;
+  }
+  s.Y[k] = t.Y[k];
+  s.Yd[k] = t.Yd[k];
+  s.h[k] = t.h[k];
+  s.F[k] = t.F[k];
+  if (below) {
+    if constexpr (B::parent >= 0) {
+      if (k != i)  // mu_parent = S_i
+        s.dM[k] = cross_col<B>(Si, Motion<Scalar>::from(d.J.col(k)));
+      else
+        s.dM[k] = Motion<Scalar>::Zero();
+    } else {
+      s.dM[k] = Motion<Scalar>::Zero();
+    }
+    s.L[k] = t.Y[k] * Si;
+    s.Ydm[k] = W::rate(t.Y[k], Si);
+    s.N[k] = t.Yd[k] * Si - spatial::cross(Si, t.h[k]);
+  } else {  // a strict ancestor of i: mu_parent = 0, the sums are those of i
+    s.dM[k] = Motion<Scalar>::Zero();
+    s.L[k] = s.L[i];
+    s.Ydm[k] = s.Ydm[i];
+    s.N[k] = s.N[i];
+  }
+  so_backward_body<R, k>(d, s);
+}
+
+/// Copies the Hessian of tau_i (so.hessian, z = (q, v, a)) into slice i of the tensors.
+template <class R, class Scalar>
+ARBOR_INLINE void tens_store_slice(const SecondOrderData<R, Scalar>& s,
+                                   SecondOrderTensors<R, Scalar>& t, int i) {
+  constexpr int n = R::nv;
+  const auto& H = s.hessian;
+  t.d2tau_dqdq[i] = H.template block<n, n>(0, 0);
+  t.d2tau_dvdv[i] = H.template block<n, n>(n, n);
+  t.d2tau_dqdv[i] = H.template block<n, n>(0, n);
+  t.d2tau_dadq[i] = H.template block<n, n>(2 * n, 0);
+}
+
+}  // namespace detail
+
+/// The four second-order tensors of inverse dynamics tau = ID(q, v, a) with gravity g (world
+/// frame) into tensors (convention in SecondOrderTensors). Uses so as work space: on return
+/// so.hessian and so.gradient are those of tau_{n-1}. Also leaves data.tau = ID(q, v, a),
+/// data.oMi and data.J (world joint columns). O(n^2 d); no allocation.
+template <Robot R, class Scalar, class Q, class V, class A>
+void rnea_second_order_tensors(Data<R, Scalar>& data, SecondOrderData<R, Scalar>& so,
+                               SecondOrderTensors<R, Scalar>& tensors,
+                               const Eigen::MatrixBase<Q>& q, const Eigen::MatrixBase<V>& v,
+                               const Eigen::MatrixBase<A>& a,
+                               const Vec3<Scalar>& g = default_gravity<Scalar>()) {
+  detail::check_sizes<R, Q, V, A>();
+  detail::joint_states(data, q);
+  const VecN<Scalar, R::nv> zero = VecN<Scalar, R::nv>::Zero();
+  // the lambda-independent quantities, once: a contracted sweep with lambda = 0 (mu, dM, L, N,
+  // Ydm vanish) leaves the composites Y, Yd, h, F, the columns Km, Wm, P, zero Kt, Ka, Wv, and
+  // data.tau
+  so.hessian.setZero();
+  static_for<R::nb>([&](auto K) {
+    detail::so_forward_body<R, decltype(K)::value, false>(data, so, v, a, zero, g);
+  });
+  static_for_reverse<R::nb>(
+      [&](auto K) { detail::so_backward_body<R, decltype(K)::value>(data, so); });
+  static_for<R::nb>([&](auto K) { detail::tens_cache_body<R, decltype(K)::value>(so, tensors); });
+  for (int i = 0; i < R::nv; ++i) {
+    const Motion<Scalar> Si = Motion<Scalar>::from(data.J.col(i));
+    so.hessian.setZero();
+    static_for_reverse<R::nb>([&](auto K) {
+      detail::tens_backward_body<R, decltype(K)::value>(data, so, tensors, i, Si);
+    });
+    detail::tens_store_slice(so, tensors, i);
+  }
+}
+
+}  // namespace arbor
