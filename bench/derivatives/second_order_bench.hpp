@@ -1,8 +1,9 @@
 // Benchmarks of the contracted second-order derivatives for one robot: the Hessians of
 // lambda' ID (rnea_second_order_derivatives) and lambda' FD (aba_second_order_derivatives), the
-// first-order sweeps for scale, and, when requested (the Kinova Gen3), the AD layer's Hessians of
-// the same functions: nested duals (H^c, ad::contracted_hessian<AutoDiff>) and duals through the
-// first-order routines (H^a, <Analytical>). Google Benchmark for time; run_loop for callgrind.
+// four n x n x n tensors of ID (rnea_second_order_tensors), the first-order sweeps for scale, and,
+// when requested (the Kinova Gen3), the AD layer's Hessians of the same functions: nested duals
+// (H^c, ad::contracted_hessian<AutoDiff>) and duals through the first-order routines (H^a,
+// <Analytical>). Google Benchmark for time; run_loop for callgrind.
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -10,6 +11,7 @@
 #include <arbor/ad/contracted_hessian.hpp>
 #include <arbor/ad/rbd_functions.hpp>
 #include <arbor/derivatives/derivatives.hpp>
+#include <arbor/derivatives/rnea_second_order_tensors.hpp>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -45,6 +47,9 @@ struct IdHessian {
 struct FdHessian {
   static constexpr const char* name = "fd_hessian";
 };
+struct IdTensors {
+  static constexpr const char* name = "id_tensors";
+};
 struct IdJacobian {
   static constexpr const char* name = "rnea_derivatives";
 };
@@ -79,6 +84,16 @@ struct Case<R, FdHessian> {
   const void* operator()(const Inputs<R>& in) {
     aba_second_order_derivatives<R>(d, dd, s, in.q, in.v, in.tau, in.lambda);
     return s.hessian.data();
+  }
+};
+template <class R>
+struct Case<R, IdTensors> {
+  Data<R> d;
+  SecondOrderData<R> s;
+  SecondOrderTensors<R> t;
+  const void* operator()(const Inputs<R>& in) {
+    rnea_second_order_tensors<R>(d, s, t, in.q, in.v, in.a);
+    return t.d2tau_dqdq[0].data();
   }
 };
 template <class R>
@@ -162,9 +177,9 @@ struct AlgoList {
 template <class R, bool WithAd>
 using Algorithms = std::conditional_t<
     WithAd,
-    AlgoList<R, IdHessian, FdHessian, IdJacobian, FdJacobian, IdHessianAd<ad::AutoDiff>,
+    AlgoList<R, IdHessian, FdHessian, IdTensors, IdJacobian, FdJacobian, IdHessianAd<ad::AutoDiff>,
              IdHessianAd<ad::Analytical>, FdHessianAd<ad::AutoDiff>, FdHessianAd<ad::Analytical>>,
-    AlgoList<R, IdHessian, FdHessian, IdJacobian, FdJacobian>>;
+    AlgoList<R, IdHessian, FdHessian, IdTensors, IdJacobian, FdJacobian>>;
 
 }  // namespace arbor::bench_so
 

@@ -1,12 +1,16 @@
 // arbor: the four n x n x n second-order tensors of inverse dynamics tau = ID(q, v, a), as
 // Pinocchio's ComputeRNEASecondOrderDerivatives gives them: d2tau/dq2, d2tau/dv2, d2tau/dq dv and
 // d2tau/da dq (index convention in SecondOrderTensors). Slice i is the Hessian of tau_i =
-// e_i' ID, i.e. the contracted second-order sweep of rnea_second_order.hpp with lambda = e_i:
-// the lambda-independent quantities (placements, joint columns, velocities, accelerations, dS,
-// ddS, world inertias and the body terms of Y, Yd, h, F) are computed once, then per output i
-// only the lambda-dependent ones (mu_k = S_i on the subtree of joint i, 0 elsewhere; dM, L, N,
-// Ydm) and the backward sweep. Cost: n backward sweeps of O(n d) each, O(n^2 d) in all (d: tree
-// depth), plus copying 4 n^3 entries; no allocation. docs/second_order.md, "The four tensors".
+// e_i' ID: the contracted second-order sweep of rnea_second_order.hpp with lambda = e_i. One
+// contracted sweep with lambda = 0 gives everything that does not depend on lambda (placements,
+// velocities, accelerations, dS, ddS, the composites Y, Yd, h, F and the B-gradient columns Km,
+// Wm, P); then per output i only the joints on the path to i and in its subtree are visited
+// (mu_k = S_i on the subtree of i and 0 elsewhere, so the other joints contribute nothing), with
+// their lambda sums L, N, Ydm in closed form from the composites. Cost: per output i, one
+// contracted backward step for each joint k related to i (O(size of k's subtree) pair work), so
+// at most O(n^2 d) (d: tree depth; a chain: ~n^3 / 2 pair evaluations, of the order of the
+// tensors' own size), plus writing the 4 n^3 entries; no allocation. docs/second_order.md, "The
+// four tensors".
 #pragma once
 
 #include <array>
@@ -109,6 +113,15 @@ ARBOR_INLINE void tens_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scal
   so_backward_body<R, k>(d, s);
 }
 
+/// Zeros the blocks of so.hessian that tens_store_slice reads (q-q, v-v, q-v, a-q): the
+/// backward steps leave the entries of unrelated pairs untouched.
+template <class R, class Scalar>
+ARBOR_INLINE void tens_clear_blocks(SecondOrderData<R, Scalar>& s) {
+  constexpr int n = R::nv;
+  s.hessian.template block<2 * n, 2 * n>(0, 0).setZero();
+  s.hessian.template block<n, n>(2 * n, 0).setZero();
+}
+
 /// Copies the Hessian of tau_i (so.hessian, z = (q, v, a)) into slice i of the tensors.
 template <class R, class Scalar>
 ARBOR_INLINE void tens_store_slice(const SecondOrderData<R, Scalar>& s,
@@ -124,9 +137,9 @@ ARBOR_INLINE void tens_store_slice(const SecondOrderData<R, Scalar>& s,
 }  // namespace detail
 
 /// The four second-order tensors of inverse dynamics tau = ID(q, v, a) with gravity g (world
-/// frame) into tensors (convention in SecondOrderTensors). Uses so as work space: on return
-/// so.hessian and so.gradient are those of tau_{n-1}. Also leaves data.tau = ID(q, v, a),
-/// data.oMi and data.J (world joint columns). O(n^2 d); no allocation.
+/// frame) into tensors (convention in SecondOrderTensors). Uses so as work space (its contents
+/// on return are work values, not a contracted Hessian). Also leaves data.tau = ID(q, v, a),
+/// data.oMi and data.J (world joint columns). O(n^2 d) at most; no allocation.
 template <Robot R, class Scalar, class Q, class V, class A>
 void rnea_second_order_tensors(Data<R, Scalar>& data, SecondOrderData<R, Scalar>& so,
                                SecondOrderTensors<R, Scalar>& tensors,
@@ -148,7 +161,7 @@ void rnea_second_order_tensors(Data<R, Scalar>& data, SecondOrderData<R, Scalar>
   static_for<R::nb>([&](auto K) { detail::tens_cache_body<R, decltype(K)::value>(so, tensors); });
   for (int i = 0; i < R::nv; ++i) {
     const Motion<Scalar> Si = Motion<Scalar>::from(data.J.col(i));
-    so.hessian.setZero();
+    detail::tens_clear_blocks(so);
     static_for_reverse<R::nb>([&](auto K) {
       detail::tens_backward_body<R, decltype(K)::value>(data, so, tensors, i, Si);
     });
