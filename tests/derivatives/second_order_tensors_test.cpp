@@ -1,8 +1,9 @@
 // The four second-order tensors of inverse dynamics (rnea_second_order_tensors): on two random
-// compile-time robots (a branch point, prismatic x and z joints; two chains from the root,
-// unaligned revolute and prismatic joints) and the Kinova Gen3 (when the generated robots are
+// compile-time robots (RandomRobot<52, 6>: a revolute branch point below the root, revolute and
+// prismatic joints on both branches; RandomRobot<6, 7>: two chains from the root, unaligned
+// revolute and prismatic joints) and the Kinova Gen3 (when the generated robots are
 // built), in double, and the first random robot in float (the Kinova's float instantiation would
-// add ~15 s of compiler time to this unit):
+// add ~20 s of compiler time to this unit):
 //   - each tensor against central differences of rnea_derivatives (dtau/dq, dtau/dv) and of crba
 //     (M = dtau/da) in q and v: an independent code path;
 //   - the contraction identity sum_i lambda_i T_i = the blocks of the contracted Hessian of
@@ -198,14 +199,17 @@ void tensors_float_matches_double(unsigned seed, double tol = 1e-4) {
               e[3]);
 }
 
-using R_2_5 = arbor::test::RandomRobot<2, 5>;
+// 0 -> 1 -> {2 -> 3, 4 -> 5}: revolute y, unaligned revolute (the branch point), prismatic x,
+// revolute z | unaligned revolute, prismatic z; every body has mass. Outputs on one branch make
+// the branch point's sweep cross the other branch, whose entries must come out zero.
+using R_52_6 = arbor::test::RandomRobot<52, 6>;
 using R_6_7 = arbor::test::RandomRobot<6, 7>;
 
-TEST(SecondOrderTensors_2_5, MatchFiniteDifferencesAndContraction) {
-  check_tensors<R_2_5>(2511u);
+TEST(SecondOrderTensors_52_6, MatchFiniteDifferencesAndContraction) {
+  check_tensors<R_52_6>(5261u);
 }
-TEST(SecondOrderTensors_2_5, FloatMatchesDouble) {
-  tensors_float_matches_double<R_2_5>(2512u);
+TEST(SecondOrderTensors_52_6, FloatMatchesDouble) {
+  tensors_float_matches_double<R_52_6>(5262u);
 }
 TEST(SecondOrderTensors_6_7, MatchFiniteDifferencesAndContraction) {
   check_tensors<R_6_7>(6711u);
