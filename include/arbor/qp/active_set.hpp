@@ -106,6 +106,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "arbor/core/config.hpp"
 #include "arbor/qp/backend.hpp"
@@ -390,19 +391,25 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
 
 template <typename Scalar, int NV, int NA>
 void ActiveSetCore<Scalar, NV, NA>::working_set_from_multipliers() {
-  for (int i = 0; i < nz; ++i) {
-    const Scalar l = lb(i), u = ub(i), m = lam(i);
-    if (l == u) {
-      ws[i] = State::equality;
-    } else if (m > 0 && u < inf()) {
-      ws[i] = State::upper;
-    } else if (m < 0 && l > -inf()) {
-      ws[i] = State::lower;
-    } else {
-      ws[i] = State::inactive;
-      lam(i) = 0;
+  // one body for the bounds and the rows, through pointers (the working set is int8_t, which
+  // may alias the members): no branch on i < NV per constraint
+  const auto pass = [](int n, const Scalar* lo, const Scalar* hi, Scalar* lam, State* w) {
+    for (int i = 0; i < n; ++i) {
+      const Scalar l = lo[i], u = hi[i], m = lam[i];
+      if (l == u) {
+        w[i] = State::equality;
+      } else if (m > 0 && u < inf()) {
+        w[i] = State::upper;
+      } else if (m < 0 && l > -inf()) {
+        w[i] = State::lower;
+      } else {
+        w[i] = State::inactive;
+        lam[i] = 0;
+      }
     }
-  }
+  };
+  pass(NV, lbx.data(), ubx.data(), lam_x.data(), ws.data());
+  pass(NA, lba.data(), uba.data(), lam_a.data(), ws.data() + NV);
 }
 
 template <typename Scalar, int NV, int NA>
@@ -419,12 +426,25 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
   du_ = r_.size() > 0 ? r_.cwiseAbs().maxCoeff() : Scalar(0);
   if (!std::isfinite(du_))
     du_ = inf();
+  // Whether every entry the passes below read is finite (x 0 is NaN for +-inf and NaN; one
+  // vectorised sum): then they skip their per-entry tests, whose results are known.
+  const Scalar zero = (x.array() * Scalar(0)).sum() + (lam_x.array() * Scalar(0)).sum() +
+                      (za_.array() * Scalar(0)).sum() + (lam_a.array() * Scalar(0)).sum() +
+                      (hx_.array() * Scalar(0)).sum() + (g.array() * Scalar(0)).sum() +
+                      (r_.array() * Scalar(0)).sum();
+  const bool finite = zero == zero;
   // scales of the relative tolerances: |z|_inf and the largest term of the stationarity sum
   Scalar dscale = 1;
-  for (int i = 0; i < NV; ++i) {
-    dscale = std::max(dscale, std::abs(hx_(i)));
-    dscale = std::max(dscale, std::abs(g(i)));
-    dscale = std::max(dscale, std::abs(r_(i) - hx_(i) - g(i)));
+  if (finite && NV > 0) {  // the same maxima, by vectorised reductions (exact on finite entries)
+    dscale = std::max(dscale, hx_.cwiseAbs().maxCoeff());
+    dscale = std::max(dscale, g.cwiseAbs().maxCoeff());
+    dscale = std::max(dscale, (r_ - hx_ - g).cwiseAbs().maxCoeff());
+  } else {
+    for (int i = 0; i < NV; ++i) {  // (std::max ignores a NaN term)
+      dscale = std::max(dscale, std::abs(hx_(i)));
+      dscale = std::max(dscale, std::abs(g(i)));
+      dscale = std::max(dscale, std::abs(r_(i) - hx_(i) - g(i)));
+    }
   }
   du_scale_ = dscale;
   // the scalars are kept in locals (the working set is int8_t, which may alias the members)
@@ -434,11 +454,13 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
   State spc = State::inactive;
   const State* w = ws.data();
   // one body for the bounds (n = 1, folded) and the rows: no branch on i < NV per constraint
-  const auto visit = [&](int i, Scalar z, Scalar l, Scalar u, Scalar m, Scalar n) {
-    if (!std::isfinite(z) || !std::isfinite(m)) {
-      pr = inf();
-      pr_abs = inf();
-      return;
+  const auto visit = [&](auto check, int i, Scalar z, Scalar l, Scalar u, Scalar m, Scalar n) {
+    if constexpr (decltype(check)::value) {
+      if (!std::isfinite(z) || !std::isfinite(m)) {
+        pr = inf();
+        pr_abs = inf();
+        return;
+      }
     }
     pscale = std::max(pscale, std::abs(z) / n);
     const Scalar vl = l - z, vu = z - u;
@@ -476,10 +498,16 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
       }
     }
   };
-  for (int i = 0; i < NV; ++i)
-    visit(i, x(i), lbx(i), ubx(i), lam_x(i), Scalar(1));
-  for (int j = 0; j < NA; ++j)
-    visit(NV + j, za_(j), lba(j), uba(j), lam_a(j), rn_(j));
+  const auto pass = [&](auto check) {
+    for (int i = 0; i < NV; ++i)
+      visit(check, i, x(i), lbx(i), ubx(i), lam_x(i), Scalar(1));
+    for (int j = 0; j < NA; ++j)
+      visit(check, NV + j, za_(j), lba(j), uba(j), lam_a(j), rn_(j));
+  };
+  if (finite)
+    pass(std::false_type{});
+  else
+    pass(std::true_type{});
   pr_scale_ = pscale + Scalar(1);
   pr_ = pr;
   co_ = co;
@@ -722,7 +750,11 @@ bool ActiveSetCore<Scalar, NV, NA>::refine_step(const Backend& be, const QpSetti
       tmpv_(i) = 0;
     }
     tmpa_.setZero();
-    be.solve_exact(d, tmpa_, tmpv_, wa_);
+    // (e = 0 and the fixed steps are 0: a backend that can skips its products with them)
+    if constexpr (requires { be.template solve_exact<true>(d, tmpa_, tmpv_, wa_); })
+      be.template solve_exact<true>(d, tmpa_, tmpv_, wa_);
+    else
+      be.solve_exact(d, tmpa_, tmpv_, wa_);
     dx_ += d;
     if constexpr (PathProducts<Backend, Scalar, NV, NA>)
       be.path_mul(dx_, dza_);  // (D d = 0: the exact rows' A dx is unchanged)

@@ -64,9 +64,13 @@ inline constexpr bool lazy_products = false;
 #endif
 
 /// Solves L y = b in place, L lower of order n packed (kernels::packed_col): four columns at a
-/// time, the 4 x 4 diagonal block first, then one pass over the rows below it.
+/// time, the 4 x 4 diagonal block first, then one pass over the rows below it; on a local copy
+/// of b (no aliasing with l: the row passes vectorise without a runtime overlap test).
 template <int n, typename Scalar>
-void solve_lower_packed(const Scalar* l, Scalar* b) {
+void solve_lower_packed(const Scalar* l, Scalar* bout) {
+  Scalar b[n];
+  for (int r = 0; r < n; ++r)
+    b[r] = bout[r];
   int j = 0;
   for (; j + 4 <= n; j += 4) {
     // c_i[r] = L(r, j + i), r >= j + i
@@ -92,6 +96,8 @@ void solve_lower_packed(const Scalar* l, Scalar* b) {
     for (int r = j + 1; r < n; ++r)
       b[r] -= yj * cj[r];
   }
+  for (int r = 0; r < n; ++r)
+    bout[r] = b[r];
 }
 
 /// Back substitution L' y = b for the first m unknowns of b (in place), L lower of order n

@@ -229,6 +229,9 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
 
   /// v <- dx, a_D <- dnu, c_B <- dlam_B (backend.hpp, ExactRowBackend); a_D holds e and c_B the
   /// steps of the fixed variables on entry; wa: the row weights of factorize().
+  /// ZeroRhs: the caller vouches that e and the fixed steps are zero (active_set.hpp's
+  /// refine_step()): the products with e are skipped (the same values, to the sign of a zero).
+  template <bool ZeroRhs = false>
   void solve_exact(VecV& v, VecA& a, VecV& c, const VecA& wa) const {
     Scalar* f = v.data();
     // backward: y_k = L_k^-1 h_k, kept in v's stage segment in (u, x) order
@@ -256,17 +259,21 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       }
       // r = y_{x,k+1} - Lxx_{k+1}' e_k, then s = Lxx_{k+1} r
       VecX r, sx;
-      if (nnext == NX) {
-        lt_mul_tail<NX>(lnext, ek, r.data());
-      } else {
-        lt_mul_tail<NW>(lnext, ek, r.data());
+      const Scalar* rp = ynext;  // r = y_{x,k+1} when e_k = 0
+      if constexpr (!ZeroRhs) {
+        if (nnext == NX) {
+          lt_mul_tail<NX>(lnext, ek, r.data());
+        } else {
+          lt_mul_tail<NW>(lnext, ek, r.data());
+        }
+        for (int i = 0; i < NX; ++i)
+          r(i) = ynext[i] - r(i);
+        rp = r.data();
       }
-      for (int i = 0; i < NX; ++i)
-        r(i) = ynext[i] - r(i);
       if (nnext == NX) {
-        l_mul_tail<NX>(lnext, r.data(), sx.data());
+        l_mul_tail<NX>(lnext, rp, sx.data());
       } else {
-        l_mul_tail<NW>(lnext, r.data(), sx.data());
+        l_mul_tail<NW>(lnext, rp, sx.data());
       }
       // h = [f_u; f_x] + [B A]' s
       VecW h;
@@ -309,7 +316,11 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
         solve_lower_transposed_head<NW, NU>(l_stage[k].data(), dw.data());
       }
       // dx_{k+1} = A dx_k + B du_k + e_k
-      VecX xn = Eigen::Map<const VecX>(a.data() + k * NR);
+      VecX xn;
+      if constexpr (ZeroRhs)
+        xn.setZero();
+      else
+        xn = Eigen::Map<const VecX>(a.data() + k * NR);
       if constexpr (lazy_products) {
         xn.noalias() +=
             s.A.lazyProduct(dw.template tail<NX>()) + s.B.lazyProduct(dw.template head<NU>());
