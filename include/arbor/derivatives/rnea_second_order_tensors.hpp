@@ -6,11 +6,13 @@
 // velocities, accelerations, dS, ddS, the composites Y, Yd, h, F and the B-gradient columns Km,
 // Wm, P); then per output i only the joints on the path to i and in its subtree are visited
 // (mu_k = S_i on the subtree of i and 0 elsewhere, so the other joints contribute nothing), with
-// their lambda sums L, N, Ydm in closed form from the composites. Cost: per output i, one
-// contracted backward step for each joint k related to i (O(size of k's subtree) pair work), so
-// at most O(n^2 d) (d: tree depth; a chain: ~n^3 / 2 pair evaluations, of the order of the
-// tensors' own size), plus writing the 4 n^3 entries; no allocation. docs/second_order.md, "The
-// four tensors".
+// their lambda sums L, N, Ydm in closed form from the composites, forming only the
+// lambda-dependent forces Kt, Ka, Wv and writing the pair entries straight into slice i
+// (depth-first numberings; others run the contracted backward step and copy from so.hessian).
+// Cost: per output i, for each joint k related to i, a constant amount of work plus
+// O(size of k's subtree) pair work: at most O(n^2 d) (d: tree depth; a chain: ~n^3 / 2 pair
+// evaluations, the order of the tensors' own size), plus zeroing the 4 n^3 entries; no
+// allocation. docs/second_order.md, "The four tensors".
 #pragma once
 
 #include <array>
@@ -113,6 +115,97 @@ ARBOR_INLINE void tens_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scal
   so_backward_body<R, k>(d, s);
 }
 
+/// True when every subtree is a contiguous range of joints (depth-first numbering).
+template <class R>
+constexpr bool tens_depth_first() {
+  for (int k = 0; k < R::nb; ++k)
+    if (!model::subtree_contiguous<R>(k))
+      return false;
+  return true;
+}
+
+/// tens_backward_body for depth-first numberings, writing slice i of the tensors directly: only
+/// the lambda-dependent forces Kt, Ka, Wv of joint k are formed (Km, Wm, P stay from the
+/// lambda = 0 sweep, the composites in so are not accumulated again), then the pair sweeps of the
+/// contracted backward step over the columns [k, last] of k's subtree, each entry stored where
+/// the tensors' convention puts it.
+template <class R, int k, class Scalar>
+ARBOR_INLINE void tens_fast_body(const Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s,
+                                 SecondOrderTensors<R, Scalar>& t, int i,
+                                 const Motion<Scalar>& Si) {
+  using B = spatial::BodyOps<R, k, Scalar>;
+  using W = WorldInertia<R, k, Scalar>;
+  constexpr int last = model::subtree_last<R>(k);
+  constexpr int Lc = last - k + 1;
+  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
+  const bool above = model::support<R>[i][k];  // k is i or an ancestor of i
+  if (!below && !above) {
+    tens_zero_col(s.Kt, k);
+    tens_zero_col(s.Ka, k);
+    tens_zero_col(s.Wv, k);
+    return;
+  }
+  const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(k));
+  const Motion<Scalar>& dS = s.dS[k];
+  const Motion<Scalar>& ddS = s.ddS[k];
+  const Inertia<Scalar>& Y = t.Y[k];
+  const spatial::InertiaRate<Scalar>& Yd = t.Yd[k];
+  const Force<Scalar>& h = t.h[k];
+  Motion<Scalar> dM = Motion<Scalar>::Zero();
+  if (below) {
+    if constexpr (B::parent >= 0) {
+      if (k != i)  // mu_parent = S_i
+        dM = cross_col<B>(Si, Sc);
+    }
+    s.L[k] = Y * Si;
+    s.Ydm[k] = W::rate(Y, Si);
+    s.N[k] = Yd * Si - spatial::cross(Si, h);
+  } else {  // a strict ancestor of i: the sums are those of i (already formed: i > k)
+    s.L[k] = s.L[i];
+    s.Ydm[k] = s.Ydm[i];
+    s.N[k] = s.N[i];
+  }
+  const Force<Scalar>& Lm = s.L[k];
+  const Force<Scalar>& Nk = s.N[k];
+  const spatial::InertiaRate<Scalar>& Ydm = s.Ydm[k];
+  const Force<Scalar> SxL = cross_col_force<B>(Sc, Lm);
+  const Force<Scalar> Kt = Yd * dM - spatial::cross(dM, h) - Ydm * dS + cross_col_force<B>(Sc, Nk) +
+                           spatial::cross(dS, Lm);
+  const Force<Scalar> Ka = Y * dM + SxL;
+  const Force<Scalar> Wv = SxL - Ydm * Sc;
+  so_store(s.Kt, k, Kt);
+  so_store(s.Ka, k, Ka);
+  so_store(s.Wv, k, Wv);
+
+  auto& Tqq = t.d2tau_dqdq[i];
+  auto& Tvv = t.d2tau_dvdv[i];
+  auto& Tqv = t.d2tau_dqdv[i];
+  auto& Taq = t.d2tau_dadq[i];
+  Eigen::Matrix<Scalar, 1, Lc> qq = row_dot<Lc, Scalar>(s.Ka, k, ddS.v, ddS.w);
+  if constexpr (B::parent >= 0) {  // dM = dS = 0 at a root
+    qq += row_dot<Lc, Scalar>(s.Km, k, dM.v, dM.w) + row_dot<Lc, Scalar>(s.Kt, k, dS.v, dS.w);
+    // d2/dq_k dv_m and d2/dq_k da_m, m in [k, last]
+    Tqv.row(k).template segment<Lc>(k) =
+        row_dot<Lc, Scalar>(s.Wm, k, dM.v, dM.w) + row_dot<Lc, Scalar>(s.Wv, k, dS.v, dS.w);
+    Taq.col(k).template segment<Lc>(k) = row_dot<Lc, Scalar>(s.P, k, dM.v, dM.w).transpose();
+  }
+  Tqq.row(k).template segment<Lc>(k) = qq;
+  Tqq.col(k).template segment<Lc>(k) = qq.transpose();
+  const Eigen::Matrix<Scalar, 1, Lc> vv = row_dot<Lc, Scalar>(s.Wv, k, Sc.v, Sc.w);
+  Tvv.row(k).template segment<Lc>(k) = vv;
+  Tvv.col(k).template segment<Lc>(k) = vv.transpose();
+  if constexpr (Lc > 1) {
+    // d2/dv_k dq_m and d2/da_k dq_m, m in (k, last]
+    Eigen::Matrix<Scalar, 1, Lc - 1> vq = row_dot<Lc - 1, Scalar>(s.Kt, k + 1, Sc.v, Sc.w);
+    if constexpr (B::parent >= 0) {
+      const Vec3<Scalar> dSv2 = dS.v * Scalar(2), dSw2 = dS.w * Scalar(2);
+      vq += row_dot<Lc - 1, Scalar>(s.Ka, k + 1, dSv2, dSw2);
+    }
+    Tqv.col(k).template segment<Lc - 1>(k + 1) = vq.transpose();
+    Taq.row(k).template segment<Lc - 1>(k + 1) = row_dot<Lc - 1, Scalar>(s.Ka, k + 1, Sc.v, Sc.w);
+  }
+}
+
 /// Zeros the blocks of so.hessian that tens_store_slice reads (q-q, v-v, q-v, a-q): the
 /// backward steps leave the entries of unrelated pairs untouched.
 template <class R, class Scalar>
@@ -161,11 +254,20 @@ void rnea_second_order_tensors(Data<R, Scalar>& data, SecondOrderData<R, Scalar>
   static_for<R::nb>([&](auto K) { detail::tens_cache_body<R, decltype(K)::value>(so, tensors); });
   for (int i = 0; i < R::nv; ++i) {
     const Motion<Scalar> Si = Motion<Scalar>::from(data.J.col(i));
-    detail::tens_clear_blocks(so);
-    static_for_reverse<R::nb>([&](auto K) {
-      detail::tens_backward_body<R, decltype(K)::value>(data, so, tensors, i, Si);
-    });
-    detail::tens_store_slice(so, tensors, i);
+    if constexpr (detail::tens_depth_first<R>()) {
+      tensors.d2tau_dqdq[i].setZero();
+      tensors.d2tau_dvdv[i].setZero();
+      tensors.d2tau_dqdv[i].setZero();
+      tensors.d2tau_dadq[i].setZero();
+      static_for_reverse<R::nb>(
+          [&](auto K) { detail::tens_fast_body<R, decltype(K)::value>(data, so, tensors, i, Si); });
+    } else {
+      detail::tens_clear_blocks(so);
+      static_for_reverse<R::nb>([&](auto K) {
+        detail::tens_backward_body<R, decltype(K)::value>(data, so, tensors, i, Si);
+      });
+      detail::tens_store_slice(so, tensors, i);
+    }
   }
 }
 
