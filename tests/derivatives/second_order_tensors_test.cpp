@@ -1,7 +1,8 @@
 // The four second-order tensors of inverse dynamics (rnea_second_order_tensors): on two random
 // compile-time robots (RandomRobot<52, 6>: a revolute branch point below the root, revolute and
 // prismatic joints on both branches; RandomRobot<6, 7>: two chains from the root, unaligned
-// revolute and prismatic joints) and the Kinova Gen3 (when the generated robots are
+// revolute and prismatic joints; RandomRobot<19, 6>: a numbering that is not depth-first, the
+// routine's per-pair path) and the Kinova Gen3 (when the generated robots are
 // built), in double, and the first random robot in float (the Kinova's float instantiation would
 // add ~20 s of compiler time to this unit):
 //   - each tensor against central differences of rnea_derivatives (dtau/dq, dtau/dv) and of crba
@@ -213,6 +214,14 @@ TEST(SecondOrderTensors_52_6, FloatMatchesDouble) {
 }
 TEST(SecondOrderTensors_6_7, MatchFiniteDifferencesAndContraction) {
   check_tensors<R_6_7>(6711u);
+}
+
+// Parents -1 0 1 0 1 4: the subtrees of joints 0 and 1 are not contiguous ranges, so this robot
+// takes the per-pair path for numberings that are not depth-first (no generated robot has one).
+using R_19_6 = arbor::test::RandomRobot<19, 6>;
+static_assert(!arbor::detail::tens_depth_first<R_19_6>());
+TEST(SecondOrderTensors_19_6, NotDepthFirstMatchFiniteDifferencesAndContraction) {
+  check_tensors<R_19_6>(1961u);
 }
 
 #ifdef ARBOR_TENSORS_TEST_KINOVA
