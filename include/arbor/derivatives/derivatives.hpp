@@ -1,5 +1,5 @@
 // arbor: analytical derivatives of the rigid-body algorithms: first order (rnea, aba, frames) and
-// contracted second order (Hessians of lambda' ID and lambda' FD).
+// second order (Hessians of lambda' ID and lambda' FD, and ID's four second-order tensors).
 #pragma once
 
 #include "arbor/derivatives/aba_derivatives.hpp"
@@ -7,3 +7,4 @@
 #include "arbor/derivatives/frame_derivatives.hpp"
 #include "arbor/derivatives/rnea_derivatives.hpp"
 #include "arbor/derivatives/rnea_second_order.hpp"
+#include "arbor/derivatives/rnea_second_order_tensors.hpp"
