@@ -59,6 +59,18 @@ ARBOR_INLINE void tens_zero_col(Blk& blk, int j) {
   blk.col(j).setZero();
 }
 
+/// For output i, a joint k neither in i's subtree nor on its path contributes nothing: clears its
+/// lambda-dependent columns Kt, Ka, Wv and returns true; false for the joints related to i.
+template <class R, int k, class Scalar>
+ARBOR_INLINE bool tens_clear_if_unrelated(SecondOrderData<R, Scalar>& s, int i) {
+  if (model::support<R>[k][i] || model::support<R>[i][k])
+    return false;
+  tens_zero_col(s.Kt, k);
+  tens_zero_col(s.Ka, k);
+  tens_zero_col(s.Wv, k);
+  return true;
+}
+
 /// Caches joint k's lambda-independent subtree sums (composites, after the lambda = 0 sweep).
 template <class R, int k, class Scalar>
 ARBOR_INLINE void tens_cache_body(const SecondOrderData<R, Scalar>& s,
@@ -82,14 +94,9 @@ ARBOR_INLINE void tens_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scal
                                      const Motion<Scalar>& Si) {
   using B = spatial::BodyOps<R, k, Scalar>;
   using W = WorldInertia<R, k, Scalar>;
-  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
-  const bool above = model::support<R>[i][k];  // k is i or an ancestor of i
-  if (!below && !above) {
-    tens_zero_col(s.Kt, k);
-    tens_zero_col(s.Ka, k);
-    tens_zero_col(s.Wv, k);
+  if (tens_clear_if_unrelated<R, k>(s, i))
     return;
-  }
+  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
   s.Y[k] = t.Y[k];
   s.Yd[k] = t.Yd[k];
   s.h[k] = t.h[k];
@@ -137,14 +144,9 @@ ARBOR_INLINE void tens_fast_body(const Data<R, Scalar>& d, SecondOrderData<R, Sc
   using W = WorldInertia<R, k, Scalar>;
   constexpr int last = model::subtree_last<R>(k);
   constexpr int Lc = last - k + 1;
-  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
-  const bool above = model::support<R>[i][k];  // k is i or an ancestor of i
-  if (!below && !above) {
-    tens_zero_col(s.Kt, k);
-    tens_zero_col(s.Ka, k);
-    tens_zero_col(s.Wv, k);
+  if (tens_clear_if_unrelated<R, k>(s, i))
     return;
-  }
+  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
   const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(k));
   const Motion<Scalar>& dS = s.dS[k];
   const Motion<Scalar>& ddS = s.ddS[k];
