@@ -51,7 +51,8 @@ void bm_hessian(benchmark::State& st) {
   }
 }
 
-/// Registers J_FD_a, J_FD_c, J_ID_a, J_ID_c of robot R (and the Hessians if requested).
+/// Registers J_FD_a, J_FD_c, J_ID_a, J_ID_c of robot R (and the Hessians if requested: H^c, H^a
+/// and H^s, the analytical second-order routines).
 template <class R, bool Hessians>
 void register_robot(const std::string& name) {
   using FD = ad::ForwardDynamics<R>;
@@ -65,6 +66,8 @@ void register_robot(const std::string& name) {
     benchmark::RegisterBenchmark(("H_FD_a/" + name).c_str(), bm_hessian<FD, ad::Analytical>);
     benchmark::RegisterBenchmark(("H_ID_c/" + name).c_str(), bm_hessian<ID, ad::AutoDiff>);
     benchmark::RegisterBenchmark(("H_ID_a/" + name).c_str(), bm_hessian<ID, ad::Analytical>);
+    benchmark::RegisterBenchmark(("H_FD_s/" + name).c_str(), bm_hessian<FD, ad::SecondOrder>);
+    benchmark::RegisterBenchmark(("H_ID_s/" + name).c_str(), bm_hessian<ID, ad::SecondOrder>);
   }
 }
 

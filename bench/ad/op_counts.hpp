@@ -33,7 +33,7 @@ struct Count {
 /// One robot's counts; Hessians only when requested.
 struct OpCounts {
   Count fd, jfd_c, jfd_a, id, jid_c, jid_a;
-  Count hfd_c, hfd_a, hid_c, hid_a;
+  Count hfd_c, hfd_a, hid_c, hid_a, hfd_s, hid_s;
 };
 
 /// Deterministic symbolic inputs (values only matter for the numeric side).
@@ -107,6 +107,8 @@ OpCounts op_counts() {
     c.hfd_a = count_hessian<FD, ad::Analytical>(x);
     c.hid_c = count_hessian<ID, ad::AutoDiff>(x);
     c.hid_a = count_hessian<ID, ad::Analytical>(x);
+    c.hfd_s = count_hessian<FD, ad::SecondOrder>(x);
+    c.hid_s = count_hessian<ID, ad::SecondOrder>(x);
   }
   return c;
 }
