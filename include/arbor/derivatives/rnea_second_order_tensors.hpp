@@ -71,6 +71,33 @@ ARBOR_INLINE bool tens_clear_if_unrelated(SecondOrderData<R, Scalar>& s, int i) 
   return true;
 }
 
+/// For lambda = e_i and a joint k related to i: its lambda sums L, Ydm, N into s, in closed form
+/// from the cached composites (mu_m = S_i on the whole subtree of k when k is in the subtree of
+/// i; for a strict ancestor the sums are those of i, already formed since i > k), and its
+/// dM = mu_parent x S_k as the result (S_i x S_k below i, k != i; zero otherwise).
+template <class R, int k, class Scalar>
+ARBOR_INLINE Motion<Scalar> tens_lambda_sums(SecondOrderData<R, Scalar>& s,
+                                             const SecondOrderTensors<R, Scalar>& t, int i,
+                                             const Motion<Scalar>& Si, const Motion<Scalar>& Sc) {
+  using B = spatial::BodyOps<R, k, Scalar>;
+  using W = WorldInertia<R, k, Scalar>;
+  Motion<Scalar> dM = Motion<Scalar>::Zero();
+  if (model::support<R>[k][i]) {  // k in the subtree of i (k = i included)
+    if constexpr (B::parent >= 0) {
+      if (k != i)  // mu_parent = S_i
+        dM = cross_col<B>(Si, Sc);
+    }
+    s.L[k] = t.Y[k] * Si;
+    s.Ydm[k] = W::rate(t.Y[k], Si);
+    s.N[k] = t.Yd[k] * Si - spatial::cross(Si, t.h[k]);
+  } else {  // a strict ancestor of i
+    s.L[k] = s.L[i];
+    s.Ydm[k] = s.Ydm[i];
+    s.N[k] = s.N[i];
+  }
+  return dM;
+}
+
 /// Caches joint k's lambda-independent subtree sums (composites, after the lambda = 0 sweep).
 template <class R, int k, class Scalar>
 ARBOR_INLINE void tens_cache_body(const SecondOrderData<R, Scalar>& s,
@@ -92,33 +119,13 @@ template <class R, int k, class Scalar>
 ARBOR_INLINE void tens_backward_body(Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s,
                                      const SecondOrderTensors<R, Scalar>& t, int i,
                                      const Motion<Scalar>& Si) {
-  using B = spatial::BodyOps<R, k, Scalar>;
-  using W = WorldInertia<R, k, Scalar>;
   if (tens_clear_if_unrelated<R, k>(s, i))
     return;
-  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
   s.Y[k] = t.Y[k];
   s.Yd[k] = t.Yd[k];
   s.h[k] = t.h[k];
   s.F[k] = t.F[k];
-  if (below) {
-    if constexpr (B::parent >= 0) {
-      if (k != i)  // mu_parent = S_i
-        s.dM[k] = cross_col<B>(Si, Motion<Scalar>::from(d.J.col(k)));
-      else
-        s.dM[k] = Motion<Scalar>::Zero();
-    } else {
-      s.dM[k] = Motion<Scalar>::Zero();
-    }
-    s.L[k] = t.Y[k] * Si;
-    s.Ydm[k] = W::rate(t.Y[k], Si);
-    s.N[k] = t.Yd[k] * Si - spatial::cross(Si, t.h[k]);
-  } else {  // a strict ancestor of i: mu_parent = 0, the sums are those of i
-    s.dM[k] = Motion<Scalar>::Zero();
-    s.L[k] = s.L[i];
-    s.Ydm[k] = s.Ydm[i];
-    s.N[k] = s.N[i];
-  }
+  s.dM[k] = tens_lambda_sums<R, k>(s, t, i, Si, Motion<Scalar>::from(d.J.col(k)));
   so_backward_body<R, k>(d, s);
 }
 
@@ -141,32 +148,17 @@ ARBOR_INLINE void tens_fast_body(const Data<R, Scalar>& d, SecondOrderData<R, Sc
                                  SecondOrderTensors<R, Scalar>& t, int i,
                                  const Motion<Scalar>& Si) {
   using B = spatial::BodyOps<R, k, Scalar>;
-  using W = WorldInertia<R, k, Scalar>;
   constexpr int last = model::subtree_last<R>(k);
   constexpr int Lc = last - k + 1;
   if (tens_clear_if_unrelated<R, k>(s, i))
     return;
-  const bool below = model::support<R>[k][i];  // k in the subtree of i (k = i included)
   const Motion<Scalar> Sc = Motion<Scalar>::from(d.J.col(k));
   const Motion<Scalar>& dS = s.dS[k];
   const Motion<Scalar>& ddS = s.ddS[k];
   const Inertia<Scalar>& Y = t.Y[k];
   const spatial::InertiaRate<Scalar>& Yd = t.Yd[k];
   const Force<Scalar>& h = t.h[k];
-  Motion<Scalar> dM = Motion<Scalar>::Zero();
-  if (below) {
-    if constexpr (B::parent >= 0) {
-      if (k != i)  // mu_parent = S_i
-        dM = cross_col<B>(Si, Sc);
-    }
-    s.L[k] = Y * Si;
-    s.Ydm[k] = W::rate(Y, Si);
-    s.N[k] = Yd * Si - spatial::cross(Si, h);
-  } else {  // a strict ancestor of i: the sums are those of i (already formed: i > k)
-    s.L[k] = s.L[i];
-    s.Ydm[k] = s.Ydm[i];
-    s.N[k] = s.N[i];
-  }
+  const Motion<Scalar> dM = tens_lambda_sums<R, k>(s, t, i, Si, Sc);
   const Force<Scalar>& Lm = s.L[k];
   const Force<Scalar>& Nk = s.N[k];
   const spatial::InertiaRate<Scalar>& Ydm = s.Ydm[k];
