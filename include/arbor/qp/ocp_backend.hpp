@@ -65,7 +65,10 @@ inline constexpr bool lazy_products = false;
 
 /// Solves L y = b in place, L lower of order n packed (kernels::packed_col): four columns at a
 /// time, the 4 x 4 diagonal block first, then one pass over the rows below it; on a local copy
-/// of b (no aliasing with l: the row passes vectorise without a runtime overlap test).
+/// of b (no aliasing with l: the row passes vectorise without a runtime overlap test). The
+/// pivots' inverses depend on l only, so the out-of-order core computes them ahead and the
+/// chain through b carries multiplications, not divisions (~13 cycles of latency each on the
+/// host; bench/qp/RESULTS.md: -5 % CPU time of a warm solve). Same for the back substitution.
 template <int n, typename Scalar>
 void solve_lower_packed(const Scalar* l, Scalar* bout) {
   Scalar b[n];
@@ -78,10 +81,12 @@ void solve_lower_packed(const Scalar* l, Scalar* bout) {
     const Scalar* c1 = l + kernels::packed_col(n, j + 1) - (j + 1);
     const Scalar* c2 = l + kernels::packed_col(n, j + 2) - (j + 2);
     const Scalar* c3 = l + kernels::packed_col(n, j + 3) - (j + 3);
-    const Scalar y0 = b[j] / c0[j];
-    const Scalar y1 = (b[j + 1] - c0[j + 1] * y0) / c1[j + 1];
-    const Scalar y2 = (b[j + 2] - c0[j + 2] * y0 - c1[j + 2] * y1) / c2[j + 2];
-    const Scalar y3 = (b[j + 3] - c0[j + 3] * y0 - c1[j + 3] * y1 - c2[j + 3] * y2) / c3[j + 3];
+    const Scalar i0 = Scalar(1) / c0[j], i1 = Scalar(1) / c1[j + 1];
+    const Scalar i2 = Scalar(1) / c2[j + 2], i3 = Scalar(1) / c3[j + 3];
+    const Scalar y0 = b[j] * i0;
+    const Scalar y1 = (b[j + 1] - c0[j + 1] * y0) * i1;
+    const Scalar y2 = (b[j + 2] - c0[j + 2] * y0 - c1[j + 2] * y1) * i2;
+    const Scalar y3 = (b[j + 3] - c0[j + 3] * y0 - c1[j + 3] * y1 - c2[j + 3] * y2) * i3;
     b[j] = y0;
     b[j + 1] = y1;
     b[j + 2] = y2;
@@ -91,7 +96,7 @@ void solve_lower_packed(const Scalar* l, Scalar* bout) {
   }
   for (; j < n; ++j) {
     const Scalar* cj = l + kernels::packed_col(n, j) - j;
-    const Scalar yj = b[j] / cj[j];
+    const Scalar yj = b[j] * (Scalar(1) / cj[j]);
     b[j] = yj;
     for (int r = j + 1; r < n; ++r)
       b[r] -= yj * cj[r];
@@ -112,7 +117,7 @@ void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
     Scalar s = b[j];
     for (int r = j + 1; r < n; ++r)
       s -= cj[r] * b[r];
-    b[j] = s / cj[j];
+    b[j] = s * (Scalar(1) / cj[j]);
   }
   for (int j = m - tail - 4; j >= 0; j -= 4) {
     const Scalar* c0 = l + kernels::packed_col(n, j) - j;
@@ -127,10 +132,12 @@ void solve_lower_transposed_head(const Scalar* l, Scalar* b) {
       s2 -= c2[r] * y;
       s3 -= c3[r] * y;
     }
-    const Scalar y3 = s3 / c3[j + 3];
-    const Scalar y2 = (s2 - c2[j + 3] * y3) / c2[j + 2];
-    const Scalar y1 = (s1 - c1[j + 2] * y2 - c1[j + 3] * y3) / c1[j + 1];
-    const Scalar y0 = (s0 - c0[j + 1] * y1 - c0[j + 2] * y2 - c0[j + 3] * y3) / c0[j];
+    const Scalar i0 = Scalar(1) / c0[j], i1 = Scalar(1) / c1[j + 1];
+    const Scalar i2 = Scalar(1) / c2[j + 2], i3 = Scalar(1) / c3[j + 3];
+    const Scalar y3 = s3 * i3;
+    const Scalar y2 = (s2 - c2[j + 3] * y3) * i2;
+    const Scalar y1 = (s1 - c1[j + 2] * y2 - c1[j + 3] * y3) * i1;
+    const Scalar y0 = (s0 - c0[j + 1] * y1 - c0[j + 2] * y2 - c0[j + 3] * y3) * i0;
     b[j] = y0;
     b[j + 1] = y1;
     b[j + 2] = y2;
@@ -203,8 +210,11 @@ struct OcpProducts {
 
   const Problem* p = nullptr;  ///< referenced problem
 
-  // With lazy_products (SIMD): one unrolled expression per stage block (the result's rows in
-  // vector registers, one broadcast and multiply-add per column); otherwise Eigen's gemv.
+  // With lazy_products (SIMD): products written per column, M v as one broadcast multiply-add
+  // per column of M into a fixed-size accumulator and M' v as one dot product per (contiguous)
+  // column of M: Eigen 3.4's lazy products of these shapes, and of their sums, took ~3x the
+  // instructions (bench/qp/RESULTS.md: H x 16.5 k -> 5.5 k per call). Without SIMD: Eigen's
+  // gemv.
   void hess_mul(const VecV& x, VecV& y) const {
     for (int k = 0; k < N; ++k) {
       const auto& s = p->stage[k];
@@ -212,8 +222,23 @@ struct OcpProducts {
       const auto xk = x.template segment<NX>(o);
       const auto uk = x.template segment<NU>(o + NX);
       if constexpr (lazy_products) {
-        y.template segment<NX>(o).noalias() = s.Q.lazyProduct(xk) + s.S.transpose().lazyProduct(uk);
-        y.template segment<NU>(o + NX).noalias() = s.S.lazyProduct(xk) + s.R.lazyProduct(uk);
+        // columns of Q, S and R by broadcast multiply-adds; S' u as dot products of S's
+        // (contiguous) columns with u
+        Eigen::Matrix<Scalar, NX, 1> ax = s.Q.col(0) * xk(0);
+        Eigen::Matrix<Scalar, NU, 1> au = s.S.col(0) * xk(0);
+        for (int j = 1; j < NX; ++j) {
+          ax += s.Q.col(j) * xk(j);
+          au += s.S.col(j) * xk(j);
+        }
+        if constexpr (NU > 0) {
+          for (int j = 0; j < NU; ++j)
+            au += s.R.col(j) * uk(j);
+        }
+        Eigen::Matrix<Scalar, NX, 1> st;
+        for (int i = 0; i < NX; ++i)
+          st(i) = s.S.col(i).dot(uk);
+        y.template segment<NX>(o) = ax + st;
+        y.template segment<NU>(o + NX) = au;
       } else {
         y.template segment<NX>(o).noalias() = s.Q * xk;
         y.template segment<NX>(o).noalias() += s.S.transpose() * uk;
@@ -234,9 +259,21 @@ struct OcpProducts {
       const auto xk = x.template segment<NX>(o);
       const auto uk = x.template segment<NU>(o + NX);
       if constexpr (lazy_products) {
-        y.template segment<NX>(r).noalias() =
-            x.template segment<NX>(o + NW) - s.A.lazyProduct(xk) - s.B.lazyProduct(uk);
-        y.template segment<NG>(r + NX).noalias() = s.C.lazyProduct(xk) + s.D.lazyProduct(uk);
+        Eigen::Matrix<Scalar, NX, 1> ad = x.template segment<NX>(o + NW);
+        Eigen::Matrix<Scalar, NG, 1> ag = s.C.col(0) * xk(0);
+        ad -= s.A.col(0) * xk(0);
+        for (int j = 1; j < NX; ++j) {
+          ad -= s.A.col(j) * xk(j);
+          ag += s.C.col(j) * xk(j);
+        }
+        if constexpr (NU > 0) {
+          for (int j = 0; j < NU; ++j) {
+            ad -= s.B.col(j) * uk(j);
+            ag += s.D.col(j) * uk(j);
+          }
+        }
+        y.template segment<NX>(r) = ad;
+        y.template segment<NG>(r + NX) = ag;
       } else {
         auto dyn = y.template segment<NX>(r);
         dyn = x.template segment<NX>(o + NW);
@@ -266,10 +303,16 @@ struct OcpProducts {
       const auto lg = l.template segment<NG>(r + NX);
       y.template segment<NX>(o + NW) += ld;  // x_{k+1} (set by the previous pass)
       if constexpr (lazy_products) {
-        y.template segment<NX>(o).noalias() =
-            s.C.transpose().lazyProduct(lg) - s.A.transpose().lazyProduct(ld);
-        y.template segment<NU>(o + NX).noalias() =
-            s.D.transpose().lazyProduct(lg) - s.B.transpose().lazyProduct(ld);
+        Eigen::Matrix<Scalar, NX, 1> tx;
+        Eigen::Matrix<Scalar, NU, 1> tu;
+        for (int i = 0; i < NX; ++i)
+          tx(i) = s.C.col(i).dot(lg) - s.A.col(i).dot(ld);
+        if constexpr (NU > 0) {
+          for (int i = 0; i < NU; ++i)
+            tu(i) = s.D.col(i).dot(lg) - s.B.col(i).dot(ld);
+        }
+        y.template segment<NX>(o) = tx;
+        y.template segment<NU>(o + NX) = tu;
       } else {
         auto yx = y.template segment<NX>(o);
         auto yu = y.template segment<NU>(o + NX);

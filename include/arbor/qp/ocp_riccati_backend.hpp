@@ -24,8 +24,8 @@
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
 // penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
 // gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve
-// ~45 k); with AVX2+FMA and the [A B] products as lazy products (ocp_backend.hpp,
-// lazy_products) the factorization takes 223 k (OCP-FD) and one solve_exact ~67 k. This is the
+// ~45 k); with AVX2+FMA and the [A B] products written per column (ocp_backend.hpp,
+// lazy_products) the factorization takes 199 k (OCP-FD) and one solve_exact ~73 k. This is the
 // default backend of OcpQpSolver (ocp_qp_solver.hpp).
 // Exact bounds (exact_bound()): a working bound of an input u_k or of x_0 fixes its variable
 // instead of adding the weight w: its row and column of M_k become the unit vector (the
@@ -193,7 +193,14 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       const auto xk = x.template segment<NX>(k * NW);
       const auto uk = x.template segment<NU>(k * NW + NX);
       if constexpr (lazy_products) {
-        y.template segment<NG>(k * NR + NX).noalias() = s.C.lazyProduct(xk) + s.D.lazyProduct(uk);
+        Eigen::Matrix<Scalar, NG, 1> ag = s.C.col(0) * xk(0);
+        for (int j = 1; j < NX; ++j)
+          ag += s.C.col(j) * xk(j);
+        if constexpr (NU > 0) {
+          for (int j = 0; j < NU; ++j)
+            ag += s.D.col(j) * uk(j);
+        }
+        y.template segment<NG>(k * NR + NX) = ag;
       } else {
         auto gen = y.template segment<NG>(k * NR + NX);
         gen.noalias() = s.C * xk;
@@ -213,8 +220,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       const auto& s = p->stage[k];
       const auto lg = l.template segment<NG>(k * NR + NX);
       if constexpr (lazy_products) {
-        y.template segment<NX>(k * NW).noalias() = s.C.transpose().lazyProduct(lg);
-        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose().lazyProduct(lg);
+        for (int i = 0; i < NX; ++i)
+          y(k * NW + i) = s.C.col(i).dot(lg);
+        if constexpr (NU > 0) {
+          for (int i = 0; i < NU; ++i)
+            y(k * NW + NX + i) = s.D.col(i).dot(lg);
+        }
       } else {
         y.template segment<NX>(k * NW).noalias() = s.C.transpose() * lg;
         y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose() * lg;
@@ -278,10 +289,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       // h = [f_u; f_x] + [B A]' s
       VecW h;
       if constexpr (lazy_products) {
-        h.template head<NU>().noalias() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX) +
-                                          s.B.transpose().lazyProduct(sx);
-        h.template tail<NX>().noalias() =
-            Eigen::Map<const VecX>(fk) + s.A.transpose().lazyProduct(sx);
+        if constexpr (NU > 0) {
+          for (int i = 0; i < NU; ++i)
+            h(i) = fk[NX + i] + s.B.col(i).dot(sx);
+        }
+        for (int i = 0; i < NX; ++i)
+          h(NU + i) = fk[i] + s.A.col(i).dot(sx);
       } else {
         h.template head<NU>() = Eigen::Map<const Eigen::Matrix<Scalar, NU, 1>>(fk + NX);
         h.template head<NU>().noalias() += s.B.transpose() * sx;
@@ -322,8 +335,12 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       else
         xn = Eigen::Map<const VecX>(a.data() + k * NR);
       if constexpr (lazy_products) {
-        xn.noalias() +=
-            s.A.lazyProduct(dw.template tail<NX>()) + s.B.lazyProduct(dw.template head<NU>());
+        for (int j = 0; j < NX; ++j)
+          xn += s.A.col(j) * dw(NU + j);
+        if constexpr (NU > 0) {
+          for (int j = 0; j < NU; ++j)
+            xn += s.B.col(j) * dw(j);
+        }
       } else {
         xn.noalias() += s.A * dw.template tail<NX>();
         xn.noalias() += s.B * dw.template head<NU>();
