@@ -960,16 +960,25 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
   if (!(pr > s.tol_primal))
     return false;  // the iterate is feasible: no certificate to look for
   Scalar ny = 0, sigma = 0, bscale = 1;
-  for (int i = 0; i < nz; ++i) {
+  const auto add = [&](Scalar y, Scalar b, Scalar rn) {
+    ny += std::abs(y) * rn;
+    sigma += y * b;
+    bscale = std::max(bscale, std::abs(b) / rn);
+  };
+  // the bounds, then the rows (no per-entry test of the kind); a zero entry (every constraint
+  // the step leaves alone) contributes nothing and is passed over first
+  for (int i = 0; i < NV; ++i) {
+    if (dlam_x_(i) == 0)
+      continue;
     const Scalar y = farkas_entry(i);
-    if (i >= NV)
-      tmpa_(i - NV) = y;
-    if (y != 0) {
-      const Scalar b = y > 0 ? ub(i) : lb(i);
-      ny += std::abs(y) * rnorm(i);
-      sigma += y * b;
-      bscale = std::max(bscale, std::abs(b) / rnorm(i));
-    }
+    if (y != 0)
+      add(y, y > 0 ? ubx(i) : lbx(i), Scalar(1));
+  }
+  for (int j = 0; j < NA; ++j) {
+    const Scalar y = dlam_a_(j) == 0 ? Scalar(0) : farkas_entry(NV + j);
+    tmpa_(j) = y;
+    if (y != 0)
+      add(y, y > 0 ? uba(j) : lba(j), rn_(j));
   }
   if (!(ny > 0) || !std::isfinite(ny) || !std::isfinite(sigma))
     return false;
