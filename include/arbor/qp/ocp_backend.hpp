@@ -53,10 +53,10 @@
 namespace arbor::qp::detail {
 
 /// The products with the problem's fixed-size blocks (H v, A v, A' v, the [A B] products of the
-/// Riccati solve) as Eigen lazy products (coefficient-based, unrolled for the fixed sizes)
-/// where Eigen vectorises, and through its runtime-size gemv otherwise: with SSE2/AVX the lazy
-/// ones cost 5-14 % fewer instructions per solve (AVX2), on the Cortex-M7 (no SIMD) 2-5 % more
-/// (bench/qp/RESULTS.md).
+/// Riccati solve) as fixed-size products unrolled per column (M v: broadcast multiply-adds; M' v:
+/// dot products of columns; a few as Eigen lazy products) where Eigen vectorises, and through its
+/// runtime-size gemv otherwise: on the Cortex-M7 (no SIMD) the unrolled ones cost 2-5 % more
+/// instructions (bench/qp/RESULTS.md).
 #if defined(EIGEN_VECTORIZE)
 inline constexpr bool lazy_products = true;
 #else
