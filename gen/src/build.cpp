@@ -415,7 +415,21 @@ class Builder {
     return it == doc_order_.end() ? doc_order_.size() : it->second;
   }
 
-  /// Marks the links kept: the whole subtree of the root, or only the root -> tip chains.
+  /// True when a joint moves nothing: fixed, locked by --lock or --lock-mimic, or a mimic of
+  /// such a joint (chains of mimics followed). Side-effect free; cycles and missing masters are
+  /// reported by visit().
+  bool rigid(const urdf::Joint& j, std::size_t depth = 0) const {
+    if (j.type == urdf::Joint::FIXED || locks_.count(j.name))
+      return true;
+    if (!j.mimic || depth > model_.joints_.size())
+      return false;
+    const auto m = model_.getJoint(j.mimic->joint_name);
+    return m && rigid(*m, depth + 1);
+  }
+
+  /// Marks the links kept: the whole subtree of the root, or the root -> tip chains together
+  /// with every link rigidly attached to a kept link (through fixed or locked joints, as fixed
+  /// links are merged elsewhere). Only movable subtrees are left out.
   void select(const urdf::LinkConstSharedPtr& root) {
     if (opt_.tips.empty()) {
       std::vector<urdf::LinkConstSharedPtr> stack{root};
@@ -439,6 +453,14 @@ class Builder {
         throw GenError("--tip " + tip + ": link is not below the root link " + quote(root->name));
       selected_.insert(root->name);
       selected_.insert(chain.begin(), chain.end());
+    }
+    std::vector<std::string> stack(selected_.begin(), selected_.end());
+    while (!stack.empty()) {
+      const auto l = model_.getLink(stack.back());
+      stack.pop_back();
+      for (const auto& j : l->child_joints)
+        if (rigid(*j) && selected_.insert(j->child_link_name).second)
+          stack.push_back(j->child_link_name);
     }
   }
 
@@ -620,7 +642,7 @@ class Builder {
     for (const auto& j : ordered_children(*link)) {
       auto child = model_.getLink(j->child_link_name);
       if (!selected_.count(child->name)) {
-        note_dropped(*j);
+        report_dropped(*j, *link, body);
         continue;
       }
       const std::string what = std::string(type_name(j->type)) + " joint " + quote(j->name);
@@ -670,9 +692,42 @@ class Builder {
     }
   }
 
-  void note_dropped(const urdf::Joint& j) {
-    out_.notes.push_back("joint " + j.name + " (" + type_name(j.type) +
-                         ") and the links below it are not on a selected chain: dropped");
+  /// A movable subtree left out by --tip. Its mass is reported in kg: a warning when it hung
+  /// from a moving body (the dynamics of the kept joints change), a note when it hung from the
+  /// fixed base (they do not) or had none.
+  void report_dropped(const urdf::Joint& j, const urdf::Link& parent, int body) {
+    double mass = 0;
+    std::string massive;
+    std::vector<urdf::LinkConstSharedPtr> stack{model_.getLink(j.child_link_name)};
+    while (!stack.empty()) {
+      const auto l = stack.back();
+      stack.pop_back();
+      if (l->inertial && l->inertial->mass > 0) {
+        mass += l->inertial->mass;
+        massive += (massive.empty() ? "" : ", ") + l->name + " " + fmt(l->inertial->mass) + " kg";
+      }
+      const auto kids = ordered_children(*l);  // pushed last first: listed in document order
+      for (auto k = kids.rbegin(); k != kids.rend(); ++k)
+        stack.push_back(model_.getLink((*k)->child_link_name));
+    }
+    const std::string what = "--tip: " + std::string(type_name(j.type)) + " joint " +
+                             quote(j.name) + " below link " + quote(parent.name) +
+                             " is not on a chain to a tip: its subtree is dropped";
+    if (mass == 0) {
+      out_.notes.push_back(what + " (0 kg: no link below it has mass)");
+    } else if (body < 0) {
+      out_.notes.push_back(what + " with " + fmt(mass) + " kg (" + massive +
+                           "), which hung from the fixed base: the dynamics are unchanged");
+    } else {
+      const Body& b = out_.bodies[std::size_t(body)];
+      const std::string lock =
+          j.mimic ? j.mimic->joint_name + "=VALUE (it mimics that joint) or --lock-mimic"
+                  : j.name + "=VALUE";
+      out_.warnings.push_back(what + ", and moving body " + quote(b.link) + " (joint " +
+                              quote(b.joint) + ") loses " + fmt(mass) + " kg (" + massive +
+                              "). Keep the mass with --lock " + lock +
+                              ", or name a link below it with --tip");
+    }
   }
 
   void check_lock_range(const urdf::Joint& j, double value) const {

@@ -23,7 +23,9 @@ options:
   --name NAME            C++ struct name (default: the URDF robot name in PascalCase)
   --namespace NS         namespace of the struct (default: arbor::robots)
   --root LINK            use LINK as the fixed base (links above it are dropped)
-  --tip LINK             keep only the chain from the root to LINK (repeatable)
+  --tip LINK             keep only the chain from the root to LINK (repeatable), with every
+                         link rigidly attached to it (fixed or locked joints, merged); movable
+                         subtrees are dropped, with a warning giving the kg a moving body loses
   --lock JOINT=VALUE     make a movable joint fixed at VALUE [rad or m] (repeatable);
                          joints that mimic it follow; floating/planar joints lock at 0
   --lock-mimic           lock every mimic group: its master at 0 if within its limits, else

@@ -63,6 +63,16 @@ std::size_t files_in(const fs::path& dir) {
   return n;
 }
 
+/// The lines of `text` that start with `prefix`.
+std::vector<std::string> lines_with(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0)
+      out.push_back(line);
+  return out;
+}
+
 // ---- malformed URDFs ----------------------------------------------------------------------
 struct BadCase {
   const char* file;      ///< file under tests/gen/data/bad
@@ -236,7 +246,74 @@ TEST(GeneratorYumi, TipsOnTheArmFlangesSucceed) {
       run("'" + kRobots + "/yumi.urdf' -o - --tip yumi_link_7_r --tip yumi_link_7_l", dir);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("static constexpr int nv = 14;"), std::string::npos);
-  EXPECT_EQ(r.out.find("gripper"), std::string::npos) << "gripper links must be dropped";
+  // The gripper bases are fixed to the flanges: kept (merged into link 7, which joint 6 moves in
+  // YuMi's naming). The fingers move (prismatic, not locked): dropped, each with a warning naming
+  // the kilograms link 7 loses.
+  EXPECT_NE(r.out.find("\"gripper_r_base\""), std::string::npos);
+  EXPECT_EQ(r.out.find("gripper_r_finger"), std::string::npos) << "fingers must be dropped";
+  for (const char* side : {"r", "l"}) {
+    const std::string s = side;
+    for (const std::string& joint : {"gripper_" + s + "_joint", "gripper_" + s + "_joint_m"}) {
+      const std::string finger =
+          joint.back() == 'm' ? "gripper_" + s + "_finger_l" : "gripper_" + s + "_finger_r";
+      SCOPED_TRACE(joint);
+      EXPECT_NE(r.err.find("--tip: prismatic joint '" + joint + "' below link 'gripper_" + s +
+                           "_base' is not on a chain to a tip: its subtree is dropped, and "
+                           "moving body 'yumi_link_7_" +
+                           s + "' (joint 'yumi_joint_6_" + s + "') loses 0.01 kg (" + finger +
+                           " 0.01 kg)"),
+                std::string::npos)
+          << r.err;
+    }
+  }
+}
+
+// ---- --tip keeps rigidly attached mass (tests/gen/data/gripper.urdf) -------------------------
+TEST(GeneratorTip, LockedGripperBelowTheTipIsKeptAndAMovableSubtreeIsAWarningInKg) {
+  const fs::path dir = scratch();
+  const std::string in = kData + "/gripper.urdf";
+  const GenResult r = run("'" + in + "' -o - --tip tool0 --lock gripper_joint=0.02", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto warnings = lines_with(r.err, "arbor-gen: warning: ");
+  ASSERT_EQ(warnings.size(), 1u) << r.err;
+  EXPECT_EQ(warnings[0],
+            "arbor-gen: warning: " + in +
+                ": --tip: revolute joint 'camera_pan' below link 'gripper_base' is not on a "
+                "chain to a tip: its subtree is dropped, and moving body 'l2' (joint 'j2') loses "
+                "0.3 kg (camera 0.3 kg). Keep the mass with --lock camera_pan=VALUE, or name a "
+                "link below it with --tip");
+  // Mass dropped from the fixed base changes nothing: a note, with its kilograms.
+  EXPECT_EQ(lines_with(r.err, "arbor-gen: note: --tip: "),
+            std::vector<std::string>{
+                "arbor-gen: note: --tip: prismatic joint 'conveyor' below link 'base' is not on "
+                "a chain to a tip: its subtree is dropped with 5 kg (cart 5 kg), which hung from "
+                "the fixed base: the dynamics are unchanged"});
+  EXPECT_NE(r.out.find("// Accepted with 1 warning(s)"), std::string::npos);
+  EXPECT_NE(r.out.find("\"finger_r\""), std::string::npos);
+  EXPECT_EQ(r.out.find("\"camera\""), std::string::npos);
+}
+
+TEST(GeneratorTip, UnlockedFingersAreWarningsNamingEachLinkAndTheTotal) {
+  const fs::path dir = scratch();
+  const std::string in = kData + "/gripper.urdf";
+  const GenResult r = run("'" + in + "' -o - --tip tool0", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto warnings = lines_with(r.err, "arbor-gen: warning: ");
+  ASSERT_EQ(warnings.size(), 3u) << r.err;  // gripper_joint, its mimic, camera_pan
+  const std::string head = "arbor-gen: warning: " + in + ": --tip: prismatic joint ";
+  EXPECT_EQ(warnings[0], head +
+                             "'gripper_joint' below link 'gripper_base' is not on a chain to a "
+                             "tip: its subtree is dropped, and moving body 'l2' (joint 'j2') "
+                             "loses 0.12 kg (finger_l 0.1 kg, pad 0.02 kg). Keep the mass with "
+                             "--lock gripper_joint=VALUE, or name a link below it with --tip");
+  EXPECT_EQ(warnings[1], head +
+                             "'gripper_joint_m' below link 'gripper_base' is not on a chain to a "
+                             "tip: its subtree is dropped, and moving body 'l2' (joint 'j2') "
+                             "loses 0.1 kg (finger_r 0.1 kg). Keep the mass with --lock "
+                             "gripper_joint=VALUE (it mimics that joint) or --lock-mimic, or name "
+                             "a link below it with --tip");
+  EXPECT_NE(warnings[2].find("'camera_pan'"), std::string::npos);
+  EXPECT_NE(r.out.find("// Accepted with 3 warning(s)"), std::string::npos);
 }
 
 TEST(GeneratorYumi, LockMimicLocksEveryGripperAtItsZero) {
@@ -258,16 +335,6 @@ TEST(GeneratorYumi, LockMimicLocksEveryGripperAtItsZero) {
 
 // ---- defects of real robot descriptions (tests/gen/data/real) -----------------------------
 const std::string kReal = kData + "/real/";
-
-/// The lines of `text` that start with `prefix`.
-std::vector<std::string> lines_with(const std::string& text, const std::string& prefix) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind(prefix, 0) == 0)
-      out.push_back(line);
-  return out;
-}
 
 /// The body_inertia entry of `link` in a generated header: the line after "// <link>".
 std::string inertia_entry(const std::string& header, const std::string& link) {

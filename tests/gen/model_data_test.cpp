@@ -10,6 +10,7 @@
 #include <numbers>
 #include <robots/atlas.hpp>
 #include <robots/double_pendulum.hpp>
+#include <robots/gripper.hpp>
 #include <robots/iiwa7.hpp>
 #include <robots/kinova_gen3.hpp>
 #include <robots/merged.hpp>
@@ -34,7 +35,8 @@ constexpr double deg = std::numbers::pi / 180.0;
 // Every generated robot satisfies the full contract (syntax and invariants).
 static_assert(arbor::Robot<DoublePendulum> && arbor::Robot<Iiwa7> && arbor::Robot<KinovaGen3> &&
               arbor::Robot<YumiNoGrippers> && arbor::Robot<Atlas> && arbor::Robot<Yumi> &&
-              arbor::Robot<YumiTips> && arbor::Robot<MergedTest> && arbor::Robot<ShoulderPanRobot>);
+              arbor::Robot<YumiTips> && arbor::Robot<MergedTest> &&
+              arbor::Robot<ShoulderPanRobot> && arbor::Robot<GripperTest>);
 
 /// The `joints` line of a reference file (Pinocchio's joint order).
 std::vector<std::string> reference_joints(const std::string& robot) {
@@ -181,7 +183,9 @@ TEST(ModelData, TotalMass) {
   EXPECT_NEAR(arbor::model::total_mass<KinovaGen3>(), 8.19, 0.005);
   EXPECT_NEAR(arbor::model::total_mass<Atlas>(), 175.1, 0.05);
   EXPECT_NEAR(arbor::model::total_mass<YumiNoGrippers>(), 43.0, 1e-9);
-  EXPECT_NEAR(arbor::model::total_mass<YumiTips>(), 43.0, 1e-9);
+  // Tips on the flanges: the gripper bases (0.2 kg, fixed to link 7) stay, the fingers (2 x 0.01
+  // kg, prismatic, not locked) are dropped (with a warning, tests/gen/gen_cli_test.cpp).
+  EXPECT_NEAR(arbor::model::total_mass<YumiTips>(), 43.4, 1e-9);
   // Grippers locked: 2 x 0.22 kg more than the arms-only model.
   EXPECT_NEAR(arbor::model::total_mass<Yumi>(), 43.44, 1e-9);
 }
@@ -274,6 +278,95 @@ TEST(MergedUrdf, Limits) {
   EXPECT_EQ(L[2].lower, -inf);  // continuous
   EXPECT_EQ(L[2].upper, inf);
   EXPECT_EQ(L[3].upper, inf);  // all-zero limit element
+}
+
+// ---- --tip with a gripper below the tip (tests/gen/data/gripper.urdf) ----------------------
+// Generated with TIP tool0 LOCK gripper_joint=0.02 (tests/gen/CMakeLists.txt).
+
+/// One rigid part in the frame of body j2 (= link l2): mass, centre of mass, rotational inertia
+/// about that centre.
+struct Part {
+  double m;
+  double c[3];
+  double I[3][3];
+};
+
+TEST(GripperUrdf, TipBodyKeepsTheRigidlyAttachedMass) {
+  // Every part below in l2's frame, by hand from the URDF (Rz(90): (x, y, z) -> (-y, x, z), swaps
+  // the x and y moments; Ry(90): (x, y, z) -> (z, y, -x), [[a, p, 0], [p, b, 0], [0, 0, c]] ->
+  // [[c, 0, 0], [0, b, -p], [0, -p, a]]).
+  // gripper_base's frame in l2: flange (0 0 0.2), gripper_mount (0 0 0.01) rpy (0 pi/2 0): origin
+  // (0, 0, 0.21), axes Ry(90). Both fingers sit at (0, +-0.02, 0.08) in gripper_base (the prismatic
+  // +Y axis at gripper_joint = 0.02 and its mimic at -1 x 0.02).
+  const Part parts[] = {
+      // l2: (0 0 0.1), 1.5 kg, diag(0.02, 0.02, 0.01).
+      {1.5, {0, 0, 0.1}, {{0.02, 0, 0}, {0, 0.02, 0}, {0, 0, 0.01}}},
+      // sensor (fixed): (0.05 0 0.1) + Rz(90) (0.02 0 0) = (0.05, 0.02, 0.1); diag(1, 2, 3) mg m^2
+      // -> diag(2, 1, 3).
+      {0.2, {0.05, 0.02, 0.1}, {{0.002, 0, 0}, {0, 0.001, 0}, {0, 0, 0.003}}},
+      // gripper_base (fixed below the tip): (0 0 0.21) + Ry(90) (0 0 0.04) = (0.04, 0, 0.21).
+      {0.5, {0.04, 0, 0.21}, {{0.0015, 0, 0}, {0, 0.002, -0.0002}, {0, -0.0002, 0.001}}},
+      // finger_l (locked): (0 0 0.21) + Ry(90) (0, 0.02, 0.08 + 0.02) = (0.1, 0.02, 0.21);
+      // diag(1e-4, 1e-4, 2e-5) -> diag(2e-5, 1e-4, 1e-4).
+      {0.1, {0.1, 0.02, 0.21}, {{2e-5, 0, 0}, {0, 1e-4, 0}, {0, 0, 1e-4}}},
+      // pad (fixed to finger_l at (0 -0.005 0.04)): (0, 0.015, 0.12) in gripper_base
+      // -> (0.12, 0.015, 0.21); isotropic 1e-6.
+      {0.02, {0.12, 0.015, 0.21}, {{1e-6, 0, 0}, {0, 1e-6, 0}, {0, 0, 1e-6}}},
+      // finger_r (mimic of the locked joint, at -0.02): (0.1, -0.02, 0.21).
+      {0.1, {0.1, -0.02, 0.21}, {{2e-5, 0, 0}, {0, 1e-4, 0}, {0, 0, 1e-4}}},
+  };
+  // The camera (revolute camera_pan, not locked) is dropped; tool0 has no mass.
+  double m = 0, c[3] = {0, 0, 0};
+  for (const Part& p : parts) {
+    m += p.m;
+    for (int k = 0; k < 3; ++k)
+      c[k] += p.m * p.c[k];
+  }
+  for (double& ck : c)
+    ck /= m;
+  double I[3][3] = {};
+  for (const Part& p : parts) {  // parallel axis: I_p + m (|d|^2 E - d d'), d = c_p - c
+    const double d[3] = {p.c[0] - c[0], p.c[1] - c[1], p.c[2] - c[2]};
+    const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        I[i][j] += p.I[i][j] + p.m * ((i == j ? d2 : 0.0) - d[i] * d[j]);
+  }
+  static_assert(GripperTest::nb == 2);
+  EXPECT_EQ(joint_names<GripperTest>(), (std::vector<std::string>{"j1", "j2"}));
+  const auto& Y = GripperTest::body_inertia[1];
+  EXPECT_NEAR(m, 2.42, 1e-15);
+  EXPECT_NEAR(Y.mass, m, 1e-14);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(Y.com[k], c[k], 1e-14) << k;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(Y.I[i][j], I[i][j], 1e-14) << i << j;
+  // The first link is untouched, the cart on the fixed base is dropped (no base mass).
+  EXPECT_EQ(GripperTest::body_inertia[0].mass, 2.0);
+  EXPECT_EQ(GripperTest::base_inertia.mass, 0.0);
+  EXPECT_NEAR(arbor::model::total_mass<GripperTest>(), 4.42, 1e-14);
+}
+
+TEST(GripperUrdf, MergedLinksStayFramesOnTheTipBody) {
+  using R = GripperTest;
+  for (const char* link :
+       {"l2", "sensor", "tool0", "gripper_base", "finger_l", "pad", "finger_r"}) {
+    const int f = arbor::model::frame_index<R>(link);
+    ASSERT_GE(f, 0) << link;
+    EXPECT_EQ(R::frames[f].body, 1) << link;
+  }
+  for (const char* dropped : {"camera", "cart"})
+    EXPECT_LT(arbor::model::frame_index<R>(dropped), 0) << dropped;
+  EXPECT_EQ(R::nf, 9);  // base, l1 and the seven above
+  // finger_r's frame: (0 0 0.21) + Ry(90) (0, -0.02, 0.08) = (0.08, -0.02, 0.21) in l2, axes
+  // Ry(90).
+  const auto& fr = R::frames[R::frame_id::finger_r];
+  EXPECT_NEAR(fr.placement.p[0], 0.08, 1e-15);
+  EXPECT_NEAR(fr.placement.p[1], -0.02, 1e-15);
+  EXPECT_NEAR(fr.placement.p[2], 0.21, 1e-15);
+  EXPECT_EQ(fr.placement.R[0][2], 1.0);
+  EXPECT_EQ(fr.placement.R[2][0], -1.0);
 }
 
 TEST(NamesUrdf, IdentifiersAreSanitizedAndNamesKept) {
