@@ -8,8 +8,8 @@
 // and over the subtree of j the composite inertia Y_j, its rate Yd_j = sum (v_i x* Y_i - Y_i v_i x)
 // (a zero-mass rigid-inertia shape), the composite momentum h_j and the net force F_j. Then, with
 //   P_j = Y_j S_j,   Q_j = Yd_j S_j - S_j x* h_j,
-//   G_j = S_j x* F_j + Y_j ddS_j + Yd_j dS_j + dS_j x* h_j,   H_j = 2 Y_j dS_j + Yd_j S_j + S_j x*
-//   h_j,
+//   G_j = S_j x* F_j + Y_j ddS_j + Yd_j dS_j + dS_j x* h_j,
+//   H_j = 2 Y_j dS_j + Yd_j S_j + S_j x* h_j,
 // for k an ancestor of j or j itself, and for j a strict ancestor of k:
 //   d tau_k / d q_j = S_k . G_j,      d tau_j / d q_k = P_j . ddS_k + Q_j . dS_k,
 //   d tau_k / d v_j = S_k . H_j,      d tau_j / d v_k = 2 P_j . dS_k + Q_j . S_k,

@@ -1,8 +1,9 @@
 // arbor::ocp: one SQP linearisation of a stage, written straight into the QP's stage blocks (delta
 // form: the QP variables are the steps dx_k, [du_k; ds_k]):
-//   dynamics     A_k = dF/dx, B_k = [dF/du, 0] (slack columns zero), b_k = F(x_k, u_k, p_k) -
-//   x_{k+1} cost         q, r = gradient of the stage cost (slacks: l1 + 2 l2 s) Hessian
-//   Gauss-Newton (SCQP): sum J_r' grad^2 phi J_r + sum mu_i J_c' grad^2 psi_i J_c
+//   dynamics     A_k = dF/dx, B_k = [dF/du, 0] (slack columns zero),
+//                b_k = F(x_k, u_k, p_k) - x_{k+1}
+//   cost         q, r = gradient of the stage cost (slacks: l1 + 2 l2 s)
+//   Hessian      Gauss-Newton (SCQP): sum J_r' grad^2 phi J_r + sum mu_i J_c' grad^2 psi_i J_c
 //                (mu_i = max(0, multiplier) of convex constraint i), slacks 2 l2: positive
 //                semidefinite by construction, no second derivative of any inner function;
 //                exact: the Hessian of the stage Lagrangian in (x, u) from the expression layer
