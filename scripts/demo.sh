@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The demo (from any folder): the paper's experiment, contour-following NMPC of the Kinova Gen3 in
 # closed loop (examples/contour: OCP-FD, analytical RBD derivatives, hard tunnel, real-time
-# iteration). Installs the few Debian packages it needs when missing (not the cross toolchains,
-# emulators, test or benchmark dependencies: those belong to scripts/test.sh), builds one
-# executable, runs it (progress, summary table), writes the CSV log and PNG plots.
+# iteration) against MuJoCo as the plant. Installs the few Debian packages it needs when missing
+# (not the cross toolchains, emulators, test or benchmark dependencies: those belong to
+# scripts/test.sh), builds one executable, runs it (progress, summary table), writes the CSV log
+# and PNG plots.
 #   BUILD_DIR    build folder (default build-demo/: configured without tests, so the demo does
 #                not need GoogleTest or IPOPT)
 #   OUT_DIR      where the log and plots go (default $BUILD_DIR/contour)
@@ -14,8 +15,10 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${BUILD_DIR:-$root/build-demo}"
 out="${OUT_DIR:-$build/contour}"
 
+# libmujoco-dev: MuJoCo, the demo's plant (--plant arbor runs arbor's own; without MuJoCo the
+# program builds with arbor's plant only)
 packages=(cmake make g++ pkg-config libeigen3-dev liburdfdom-dev liburdfdom-tools libtinyxml-dev
-          libconsole-bridge-dev python3 python3-matplotlib)
+          libconsole-bridge-dev libmujoco-dev python3 python3-matplotlib)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

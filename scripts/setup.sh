@@ -11,6 +11,7 @@ packages=(
   libtinyxml-dev libconsole-bridge-dev
   googletest libgtest-dev            # unit tests
   coinor-libipopt-dev                # IPOPT, test-only NLP reference (tests/support/ipopt_reference)
+  libmujoco-dev                      # MuJoCo 2.2.2: the contour demo's plant, tests/plant
   libbenchmark-dev                   # benchmarks
   clang libclang-rt-14-dev           # libFuzzer target of the generator
   clang-format                       # formatting check of generated headers

@@ -1,7 +1,9 @@
 // The closed loop of the contour example: the NMPC (controller scalar Scalar, formulation F,
-// RBD derivative provider Tag, hard or Soft tunnel) against the plant of plant.hpp.
+// RBD derivative provider Tag, hard or Soft tunnel) against the plant of plant.hpp, or against
+// an external plant of the same interface (ExtPlant, e.g. MujocoPlant of mujoco_plant.hpp).
 //
-//   ContourLoop<F, Tag, Soft, Scalar[, Timer]> loop(options);  // big: give it static storage
+//   ContourLoop<F, Tag, Soft, Scalar[, Timer[, ExtPlant]]> loop(options);  // big: static storage
+//   loop.set_external_plant(&plant);  // optional (ExtPlant): used instead of arbor's plant
 //   loop.start();                 // plant at x0, first OCP solved to convergence (warm start)
 //   while (!loop.done()) loop.sample();                // one 0.02 s sample, see sample()
 //
@@ -79,6 +81,9 @@ struct SteadyTimer {
   }
 };
 
+/// ContourLoop's default ExtPlant: none (only arbor's plants, plant.hpp).
+struct NoExternalPlant {};
+
 /// What one sample records (plant state after the sample, the control computed from it).
 struct Record {
   double t = 0;                            ///< time at the end of the sample [s]
@@ -96,7 +101,8 @@ struct Record {
   arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
 };
 
-template <Formulation F, class Tag, bool Soft, class Scalar = double, class Timer = SteadyTimer>
+template <Formulation F, class Tag, bool Soft, class Scalar = double, class Timer = SteadyTimer,
+          class ExtPlant = NoExternalPlant>
 class ContourLoop {
  public:
   using W = Workspace<Tag, Scalar>;
@@ -107,6 +113,7 @@ class ContourLoop {
   static constexpr Formulation formulation = F;
   static constexpr bool soft = Soft;
   static constexpr bool is_float = std::is_same_v<Scalar, float>;
+  static constexpr bool has_external = !std::is_same_v<ExtPlant, NoExternalPlant>;
 
   explicit ContourLoop(const Options& o)
       : options_(o),
@@ -117,6 +124,12 @@ class ContourLoop {
         rng_(o.seed) {}
   ContourLoop(const ContourLoop&) = delete;
   ContourLoop& operator=(const ContourLoop&) = delete;
+
+  /// Runs the loop against p (not owned; it keeps its own payload and joint properties, and
+  /// options().mismatch no longer selects the plant) instead of arbor's plant; nullptr: arbor's.
+  void set_external_plant(ExtPlant* p) { external_ = p; }
+  /// True when the external plant runs the loop.
+  bool external() const { return external_ != nullptr; }
 
   /// The back-off the controller runs with: o.backoff, or the scalar's default if it is < 0.
   static double backoff(const Options& o) {
@@ -129,6 +142,9 @@ class ContourLoop {
     x0.head<nq>() = initial_q();
     nominal_.x = x0;
     payload_.x = x0;
+    if constexpr (has_external)
+      if (external_)
+        external_->x = x0;
     t_ = 0;
     samples_ = 0;
     for (int k = 0; k <= horizon; ++k) {
@@ -184,10 +200,7 @@ class ContourLoop {
   /// One sample (see the top of this file); fills rec.
   void sample(Record& rec) {
     const VecN<double, nu> u = ctrl_.control().template cast<double>();
-    if (options_.mismatch)
-      payload_.step(F, u);
-    else
-      nominal_.step(F, u);
+    on_plant([&](auto& p) { p.step(F, u); });
     ++samples_;
     t_ += h;
     const auto& pl = plant_x();
@@ -220,14 +233,13 @@ class ContourLoop {
     }
     rec.t = t_;
     rec.x = pl;
-    rec.p = options_.mismatch ? payload_.ee_position() : nominal_.ee_position();
+    rec.p = on_plant([](auto& p) { return p.ee_position(); });
     rec.p_ref = p_ref(ref_, pl[14]);
     rec.e_p = (rec.p - rec.p_ref).norm();
-    rec.e_R =
-        (options_.mismatch ? payload_.rotation_error(ref_) : nominal_.rotation_error(ref_)).norm();
+    rec.e_R = on_plant([this](auto& p) { return p.rotation_error(ref_); }).norm();
     rec.sd_ref = sd_ref(ref_.c, pl[14]);
-    rec.tau = options_.mismatch ? payload_.tau_applied : nominal_.tau_applied;
-    rec.tau_peak = options_.mismatch ? payload_.tau_peak : nominal_.tau_peak;
+    rec.tau = on_plant([](auto& p) { return VecN<double, nq>(p.tau_applied); });
+    rec.tau_peak = on_plant([](auto& p) { return VecN<double, nq>(p.tau_peak); });
     rec.u = ctrl_.control().template cast<double>();
     rec.prepare_us = prep;
     rec.feedback_us = fb;
@@ -240,7 +252,12 @@ class ContourLoop {
   /// s reached s_end or the sample budget is spent.
   bool done() const { return plant_x()[14] > options_.s_end || samples_ >= options_.max_samples; }
 
-  const VecN<double, nx>& plant_x() const { return options_.mismatch ? payload_.x : nominal_.x; }
+  const VecN<double, nx>& plant_x() const {
+    if constexpr (has_external)
+      if (external_)
+        return external_->x;
+    return options_.mismatch ? payload_.x : nominal_.x;
+  }
   Controller& controller() { return ctrl_; }
   const Reference& reference() const { return ref_; }
   const Options& options() const { return options_; }
@@ -249,6 +266,16 @@ class ContourLoop {
   int samples() const { return samples_; }
 
  private:
+  /// fn(plant) on the plant that runs the loop: the external one if set, else arbor's nominal or
+  /// payload plant (options().mismatch).
+  template <class Fn>
+  decltype(auto) on_plant(Fn&& fn) {
+    if constexpr (has_external)
+      if (external_)
+        return fn(*external_);
+    return options_.mismatch ? fn(payload_) : fn(nominal_);
+  }
+
   Options options_;
   Reference ref_;
   W ws_{};  // declared before problem_: the problem's handles point here
@@ -256,6 +283,7 @@ class ContourLoop {
   Controller ctrl_;
   PlantModel nominal_;
   PayloadPlant payload_;
+  ExtPlant* external_ = nullptr;
   std::mt19937 rng_;
   double t_ = 0;
   int samples_ = 0;

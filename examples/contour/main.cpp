@@ -6,6 +6,8 @@
 //   CONTOUR_AUTODIFF  0: analytical RBD derivatives, 1: AD through the RBD templates (dual
 //                     numbers), 2: code-generated AD (gen/ad; the pose node by dual numbers)
 //   CONTOUR_SOFT      0: hard tunnel, 1: soft tunnel (exact-penalty slack)
+//   CONTOUR_MUJOCO    1: MuJoCo is available as the plant (the default, `--plant mujoco`;
+//                     CONTOUR_URDF is the Gen3's URDF it loads); 0: arbor's plant only
 // Prints progress, a summary table, and writes a CSV log (plot it with plot.py). `--help`.
 #include <algorithm>
 #include <cmath>
@@ -19,6 +21,9 @@
 #include <robots/kinova_gen3_ad.hpp>  // before closed_loop.hpp (task.hpp): GeneratedCode
 #endif
 #include "closed_loop.hpp"
+#if CONTOUR_MUJOCO
+#include "mujoco_plant.hpp"
+#endif
 
 #ifndef CONTOUR_ID
 #define CONTOUR_ID 0
@@ -28,6 +33,9 @@
 #endif
 #ifndef CONTOUR_SOFT
 #define CONTOUR_SOFT 0
+#endif
+#ifndef CONTOUR_MUJOCO
+#define CONTOUR_MUJOCO 0
 #endif
 
 namespace {
@@ -41,7 +49,11 @@ constexpr bool kSoft = CONTOUR_SOFT != 0;
 constexpr const char* kTagName = CONTOUR_AUTODIFF == 2   ? "Generated"
                                  : CONTOUR_AUTODIFF == 1 ? "AutoDiff"
                                                          : "Analytical";
+#if CONTOUR_MUJOCO
+using Loop = ContourLoop<kForm, Tag, kSoft, double, SteadyTimer, MujocoPlant>;
+#else
 using Loop = ContourLoop<kForm, Tag, kSoft, double>;
+#endif
 
 void usage(const char* argv0) {
   std::printf(
@@ -57,7 +69,16 @@ void usage(const char* argv0) {
       "  --sqp [K]         paper's mode: full SQP per sample, at most K iterations (default 5)\n"
       "                    and CONTOUR.md's tolerances, scaled tunnel row (default: real-time\n"
       "                    iteration)\n"
+      "  --plant P         the simulated plant: mujoco (default when built with MuJoCo: its own\n"
+      "                    URDF parser and dynamics) or arbor (arbor's aba + RK4 at 1 ms)%s\n"
       "  --mismatch        plant carries 0.5 kg at the end effector (controller: nominal model)\n"
+      "  --damping D       MuJoCo plant: joint damping D [N m s/rad] on every joint (default 0;\n"
+      "                    unknown to the controller)\n"
+      "  --armature A      MuJoCo plant: armature A [kg m^2] on every joint (default 0; unknown)\n"
+      "  --frictionloss F  MuJoCo plant: dry friction F [N m] on every joint (default 0; unknown)\n"
+      "  --plant-dt DT     MuJoCo plant: its time step (default 0.001 s; divides 0.02 s)\n"
+      "  --plant-integrator I  MuJoCo plant: rk4 (default) or euler (MuJoCo's semi-implicit)\n"
+      "  --urdf FILE       MuJoCo plant: the Gen3's URDF (default the source tree's)\n"
       "  --noise SIGMA     measurement noise std. dev. on q [rad] (qd: 10 SIGMA), default 0\n"
       "  --seed N          noise seed (default 1)\n"
       "  --soft-weight W   slack weight of the soft tunnel (soft builds; default 100)\n"
@@ -73,7 +94,8 @@ void usage(const char* argv0) {
       "                    one stage earlier; default: kept in place, see README)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
-      argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard");
+      argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard",
+      CONTOUR_MUJOCO ? "" : "\n                    (this build has no MuJoCo: arbor only)");
 }
 
 /// Quantile q of v (nearest rank; v is copied).
@@ -124,6 +146,14 @@ void write_csv(const char* path, const std::vector<Record>& log) {
 
 int main(int argc, char** argv) {
   Options o;
+  bool use_mujoco = CONTOUR_MUJOCO != 0;
+#if CONTOUR_MUJOCO
+  MujocoPlantOptions mo;
+  mo.urdf = CONTOUR_URDF;
+#endif
+  double damping = 0, armature = 0, frictionloss = 0, plant_dt = 1e-3;
+  bool euler = false;
+  std::string urdf;
   std::string csv = "contour.csv";
   int progress = 50;
   for (int i = 1; i < argc; ++i) {
@@ -150,6 +180,37 @@ int main(int argc, char** argv) {
       o.sqp = true;  // (ContourLoop then scales the tunnel row)
       if (i + 1 < argc && argv[i + 1][0] != '-')
         o.sqp_iter = std::atoi(argv[++i]);
+    } else if (a == "--plant") {
+      const std::string p = value("mujoco or arbor");
+      if (p == "arbor") {
+        use_mujoco = false;
+      } else if (p == "mujoco") {
+        if (!CONTOUR_MUJOCO) {
+          std::fprintf(stderr, "this build has no MuJoCo (install libmujoco-dev, reconfigure)\n");
+          return 2;
+        }
+        use_mujoco = true;
+      } else {
+        std::fprintf(stderr, "--plant: mujoco or arbor, not %s\n", p.c_str());
+        return 2;
+      }
+    } else if (a == "--damping") {
+      damping = std::atof(value("a number"));
+    } else if (a == "--armature") {
+      armature = std::atof(value("a number"));
+    } else if (a == "--frictionloss") {
+      frictionloss = std::atof(value("a number"));
+    } else if (a == "--plant-dt") {
+      plant_dt = std::atof(value("a number"));
+    } else if (a == "--plant-integrator") {
+      const std::string p = value("rk4 or euler");
+      if (p != "rk4" && p != "euler") {
+        std::fprintf(stderr, "--plant-integrator: rk4 or euler, not %s\n", p.c_str());
+        return 2;
+      }
+      euler = p == "euler";
+    } else if (a == "--urdf") {
+      urdf = value("a file name");
     } else if (a == "--mismatch") {
       o.mismatch = true;
     } else if (a == "--noise") {
@@ -176,7 +237,43 @@ int main(int argc, char** argv) {
     }
   }
 
+  const bool mujoco_only = damping != 0 || armature != 0 || frictionloss != 0 || euler ||
+                           plant_dt != 1e-3 || !urdf.empty();
+  if (!use_mujoco && mujoco_only) {
+    std::fprintf(stderr,
+                 "--damping, --armature, --frictionloss, --plant-dt, --plant-integrator, --urdf "
+                 "need the MuJoCo plant%s\n",
+                 CONTOUR_MUJOCO ? " (--plant mujoco)" : " (this build has none)");
+    return 2;
+  }
+
   static Loop loop(o);  // the controller is large: static storage
+  std::string plant_name = "arbor (aba, RK4 at 1 ms)";
+#if CONTOUR_MUJOCO
+  static MujocoPlant mujoco;
+  if (use_mujoco) {
+    if (!urdf.empty())
+      mo.urdf = urdf;
+    mo.dt = plant_dt;
+    mo.euler = euler;
+    mo.payload = o.mismatch ? PayloadRobot::payload : 0.0;
+    mo.joints = {damping, armature, frictionloss};
+    std::string err;
+    if (!mujoco.init(mo, err)) {
+      std::fprintf(stderr, "MuJoCo plant: %s\n", err.c_str());
+      return 2;
+    }
+    loop.set_external_plant(&mujoco);
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "MuJoCo %s (%s, %g ms; damping %g, armature %g, frictionloss %g)",
+                  mj_versionString(), euler ? "Euler" : "RK4", 1e3 * plant_dt, damping, armature,
+                  frictionloss);
+    plant_name = buf;
+  }
+#else
+  std::printf("(built without MuJoCo: arbor's plant only; Debian: libmujoco-dev)\n");
+#endif
   std::printf(
       "Kinova Gen3 contour following: %s, %s RBD derivatives, %s tunnel (rho = %g m), "
       "N = %d, h = %g s, %s\n",
@@ -186,6 +283,7 @@ int main(int argc, char** argv) {
       "sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, back-off %g mm, plant: %s%s\n",
       sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * Loop::backoff(o),
       o.mismatch ? "+0.5 kg payload" : "nominal model", o.noise > 0 ? ", measurement noise" : "");
+  std::printf("plant: %s\n", plant_name.c_str());
   const auto st0 = loop.start();
   std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
               loop.start_iterations());
@@ -242,8 +340,9 @@ int main(int argc, char** argv) {
   const std::size_t n = log.size();
   const double rms = n ? std::sqrt(e_sq / double(n)) : 0.0;
   const double s_final = n ? log.back().x[14] : 0.0;
-  std::printf("\nsummary (%s, %s, %s tunnel, %s)\n", to_string(kForm), kTagName,
-              kSoft ? "soft" : "hard", o.sqp ? "SQP mode" : "RTI");
+  std::printf("\nsummary (%s, %s, %s tunnel, %s; plant %s%s)\n", to_string(kForm), kTagName,
+              kSoft ? "soft" : "hard", o.sqp ? "SQP mode" : "RTI", plant_name.c_str(),
+              o.mismatch ? ", +0.5 kg payload" : "");
   std::printf("  %-34s %10s %10s %10s\n", "", "median", "p95", "max");
   auto row = [](const char* name, const std::vector<double>& v, const char* fmt) {
     std::printf("  %-34s ", name);

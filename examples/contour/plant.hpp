@@ -1,6 +1,7 @@
 // The simulated plant of the contour example: the Gen3 integrated with arbor's own forward
 // dynamics (aba) by RK4 at 1 ms, 20 substeps per 0.02 s sample, applying the controller's first
-// input; s and sd (virtual states) integrate the applied sdd exactly.
+// input; s and sd (virtual states) integrate the applied sdd exactly. (`--plant arbor`; the
+// demo's default plant is MuJoCo, mujoco_plant.hpp, with the same interface.)
 //   OCP-FD: the torque tau of u_0 is held over the sample.
 //   OCP-ID: an inner 1 kHz computed-torque loop: at each 1 ms substep tau = rnea(q, qd, qdd_cmd)
 //           on the controller's (nominal) model, held over the substep; the plant moves with its

@@ -1,0 +1,138 @@
+// The contour example's independent plant: MuJoCo (Debian's libmujoco-dev) simulating the Gen3
+// from the same URDF with its own parser and its own dynamics (mujoco_model.hpp), the interface
+// of plant.hpp's Plant (x, step, ee_position, rotation_error, tau_applied, tau_peak), so that
+// ContourLoop (closed_loop.hpp) runs either.
+//   - MuJoCo steps at its own rate (MujocoPlantOptions::dt, 1 ms by default, h / dt steps per
+//     0.02 s sample) with its own integrator (RK4 by default; `euler`: MuJoCo's semi-implicit
+//     Euler, implicit in the joint damping).
+//   - OCP-FD: the torque of u_0 is applied as qfrc_applied (joint torque, no clipping), held over
+//     the sample. OCP-ID: the inner 1 kHz computed-torque loop of plant.hpp, tau = rnea(q, qd,
+//     qdd_cmd) on the controller's (nominal) arbor model at each MuJoCo step.
+//   - Unknown to the controller: a point mass at the end-effector frame (the 0.5 kg of
+//     `--mismatch`, written into the URDF as a link on a fixed joint), and damping, armature and
+//     frictionloss on every joint.
+//   - x is the plant's state [q, qd, s, sd] in arbor's joint order (mapped by joint name); each
+//     sample starts MuJoCo from x. s and sd integrate the applied sdd exactly (as plant.hpp).
+//   - The end-effector position and rotation error are those of the task's kinematics (arbor's
+//     forward kinematics of the nominal Gen3) at MuJoCo's q: the kinematics agree to 1e-15
+//     (tests/plant), the payload does not move the frame.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/rnea.hpp"
+#include "mujoco_model.hpp"
+#include "task.hpp"
+
+namespace contour {
+
+/// How the MuJoCo plant is built (the demo's options --plant-dt, --plant-integrator, --damping,
+/// --armature, --frictionloss, --mismatch).
+struct MujocoPlantOptions {
+  std::string urdf;                ///< the Gen3's URDF file
+  double dt = 1e-3;                ///< MuJoCo's time step [s] (h is a whole number of them)
+  bool euler = false;              ///< MuJoCo's Euler integrator instead of RK4
+  double payload = 0;              ///< point mass at the end-effector frame [kg]
+  mujoco::JointProperties joints;  ///< damping, armature, frictionloss on every joint
+};
+
+class MujocoPlant {
+ public:
+  using Vx = VecN<double, nx>;
+  using Vq = VecN<double, nq>;
+
+  Vx x = Vx::Zero();
+  arbor::Data<Robot, double> nominal;  ///< the nominal model (computed torque of OCP-ID)
+  Vq tau_applied = Vq::Zero();         ///< the torque of the last MuJoCo step
+  Vq tau_peak = Vq::Zero();            ///< max |tau| over the last sample's steps
+
+  /// Loads the model; false with a message in err.
+  bool init(const MujocoPlantOptions& o, std::string& err) {
+    opt_ = o;
+    substeps_ = int(std::lround(h / o.dt));
+    if (substeps_ < 1 || std::fabs(substeps_ * o.dt - h) > 1e-12) {
+      err = "the plant's time step must divide h = 0.02 s";
+      return false;
+    }
+    mujoco::PointMass pm;
+    if (o.payload > 0) {
+      // the end-effector frame's link (the URDF's end_effector_link): the mass at its origin
+      pm.link = std::string(Robot::frames[std::size_t(ee_frame)].name);
+      pm.mass = o.payload;
+    }
+    if (!mj_.load_file(o.urdf, pm, o.joints, err))
+      return false;
+    mj_.m->opt.timestep = o.dt;
+    mj_.m->opt.integrator = o.euler ? mjINT_EULER : mjINT_RK4;
+    return true;
+  }
+
+  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id).
+  void step(Formulation form, const VecN<double, nu>& u) {
+    tau_peak.setZero();
+    mj_.set_state(x.head<nq>(), x.segment<nq>(nq));
+    mjData* d = mj_.d;
+    d->time = 0;
+    mju_zero(d->qacc_warmstart, mj_.m->nv);
+    const int bad = d->warning[mjWARN_BADQACC].number;
+    for (int k = 0; k < substeps_; ++k) {
+      Vq tau;
+      if (form == Formulation::fd) {
+        tau = u.head<nq>();
+      } else {
+        Vq q, v;
+        for (int i = 0; i < nq; ++i) {
+          q[i] = mj_.q(i);
+          v[i] = mj_.v(i);
+        }
+        tau = arbor::rnea<Robot>(nominal, q, v, Vq(u.head<nq>()));
+      }
+      tau_applied = tau;
+      tau_peak = tau_peak.cwiseMax(tau.cwiseAbs());
+      mj_.set_torque(tau);
+      mj_step(mj_.m, d);
+    }
+    for (int i = 0; i < nq; ++i) {
+      x[i] = mj_.q(i);
+      x[nq + i] = mj_.v(i);
+    }
+    // MuJoCo resets its state on a non-finite acceleration: report it as one
+    if (d->warning[mjWARN_BADQACC].number != bad)
+      x.head<2 * nq>().setConstant(std::numeric_limits<double>::quiet_NaN());
+    const double sdd = u[7];
+    x[14] += h * x[15] + 0.5 * h * h * sdd;
+    x[15] += h * sdd;
+  }
+
+  /// End-effector position at the plant's q (the task's kinematics).
+  VecN<double, 3> ee_position() {
+    arbor::forward_kinematics<Robot>(kin_, Vq(x.head<nq>()));
+    return arbor::frame_placement<Robot>(kin_, ee_frame).p;
+  }
+  /// End-effector rotation error against the reference.
+  VecN<double, 3> rotation_error(const Reference& ref) {
+    arbor::forward_kinematics<Robot>(kin_, Vq(x.head<nq>()));
+    const auto& M = arbor::frame_placement<Robot>(kin_, ee_frame);
+    VecN<double, 12> pose;
+    pose.head<3>() = M.p;
+    for (int c = 0; c < 3; ++c)
+      pose.segment<3>(3 + 3 * c) = M.R.col(c);
+    return contour::rotation_error<double>(ref, pose);
+  }
+
+  const MujocoPlantOptions& options() const { return opt_; }
+  int substeps() const { return substeps_; }
+  const mujoco::MujocoModel<Robot>& model() const { return mj_; }
+
+ private:
+  MujocoPlantOptions opt_;
+  int substeps_ = 20;
+  mujoco::MujocoModel<Robot> mj_;
+  arbor::Data<Robot, double> kin_;
+};
+
+}  // namespace contour
