@@ -6,6 +6,9 @@
 //   update: the real-time path: update(Convexity::assumed) of the bound (perturbed) problem,
 //           then the warm-started solve (compare with setup + warm)
 //   factor: one full block-tridiagonal factorization (all 17 stages)
+// The odd_* rows: a QP whose sizes are no multiple of any vector width, (N, nx, nu, ng, ngn) =
+// (20, 14, 7, 1, 1), a 6-DoF arm's contour task (issue 35: it crashed at -march=native), random
+// data of tests/qp/qp_random_static.hpp (perturbed: x0 shifted by 1e-3).
 // Counters: iterations, active-set changes, stage blocks factorized per solve, solver bytes.
 // Every case runs with the default backend (the exact-dynamics Riccati one,
 // ocp_riccati_backend.hpp) and, under the "pen_" names, with the penalised block elimination that
@@ -17,6 +20,7 @@
 
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "kinova_qp.hpp"
+#include "qp_random_static.hpp"
 
 namespace {
 using arbor::bench::KinovaQp;
@@ -42,8 +46,18 @@ struct Fixture {
   arbor::qp::QpSettings<typename decltype(nominal.terminal.q)::Scalar> settings;
   Fixture() {
     settings.max_iter = 1000;  // a cold start needs one iteration per active-set change
-    make_kinova_qp(nominal, 1);
-    make_kinova_qp(perturbed, 1, 1e-3, 0.01);
+    if constexpr (Qp::nx == 16 && Qp::nu == 8) {
+      make_kinova_qp(nominal, 1);
+      make_kinova_qp(perturbed, 1, 1e-3, 0.01);
+    } else {
+      using S = typename decltype(nominal.terminal.q)::Scalar;
+      static arbor::qp::OcpQp<double, Qp::horizon, Qp::nx, Qp::nu, Qp::ng, Qp::ngn> d;
+      qp_matrix::random_problem(d, 1);
+      qp_matrix::cast_problem<S>(d, nominal);
+      d.stage[0].lbx.array() += 1e-3;
+      d.stage[0].ubx.array() += 1e-3;
+      qp_matrix::cast_problem<S>(d, perturbed);
+    }
     if (solver.setup(nominal, settings) != QpStatus::accepted)
       return;
     solver.cold_start();
@@ -121,7 +135,7 @@ void bm_factor(benchmark::State& state) {
   be.p = &f.nominal;
   for (int i = 0; i < Qp::nv + Qp::na; ++i)
     ws[i] = i >= Qp::nv ? ConstraintState::equality : ConstraintState::inactive;  // dynamics
-  for (int i = 0; i < 16; ++i)
+  for (int i = 0; i < Qp::nx; ++i)
     ws[i] = ConstraintState::equality;  // x_0 fixed
   static Eigen::Matrix<Scalar, Qp::na, 1> wa;
   be.row_norms_sq(wa);
@@ -148,6 +162,8 @@ using FdD = KinovaQp<double, 1>;
 using IdD = KinovaQp<double, 8>;
 using FdF = KinovaQp<float, 1>;
 using IdF = KinovaQp<float, 8>;
+using OddD = arbor::qp::OcpQp<double, 20, 14, 7, 1, 1>;
+using OddF = arbor::qp::OcpQp<float, 20, 14, 7, 1, 1>;
 
 BENCHMARK(bm_cold<FdD>)->Name("fd_double/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdD>)->Name("fd_double/warm")->Unit(benchmark::kMicrosecond);
@@ -158,6 +174,11 @@ BENCHMARK(bm_cold<IdD>)->Name("id_double/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<IdD>)->Name("id_double/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_update<IdD>)->Name("id_double/update_assumed_warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<IdD>)->Name("id_double/factor_full")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<OddD>)->Name("odd_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<OddD>)->Name("odd_double/warm")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_factor<OddD>)->Name("odd_double/factor_full")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold<OddF>)->Name("odd_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_warm<OddF>)->Name("odd_float/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<FdF>)->Name("fd_float/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdF>)->Name("fd_float/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<FdF>)->Name("fd_float/factor_full")->Unit(benchmark::kMicrosecond);

@@ -26,7 +26,7 @@ inline void note_allocation() {
     ++recorded;
 }
 
-void* aligned(std::size_t alignment, std::size_t size) {
+[[maybe_unused]] void* aligned(std::size_t alignment, std::size_t size) {
   if (alignment < sizeof(void*))
     alignment = sizeof(void*);
   return __libc_memalign(alignment, size ? size : 1);
@@ -34,6 +34,19 @@ void* aligned(std::size_t alignment, std::size_t size) {
 
 }  // namespace
 
+#if defined(ARBOR_SANITIZE)
+// ---- sanitizer builds (scripts/sanitize.sh) ------------------------------------------------------
+// AddressSanitizer owns malloc and operator new: the allocations are counted by its hook instead
+// of by interposition (the same count: every malloc, calloc, realloc, aligned and C++ allocation).
+#include <sanitizer/allocator_interface.h>
+namespace {
+void count_hook(const volatile void*, std::size_t) {
+  note_allocation();
+}
+[[maybe_unused]] const int hooks_installed =
+    __sanitizer_install_malloc_and_free_hooks(count_hook, nullptr);
+}  // namespace
+#else
 // ---- C allocation functions, interposed over glibc's -----------------------------------------
 extern "C" {
 void* malloc(std::size_t n) {
@@ -129,6 +142,7 @@ void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept {
   __libc_free(p);
 }
+#endif  // ARBOR_SANITIZE
 
 namespace arbor::test {
 

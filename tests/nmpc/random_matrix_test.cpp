@@ -1,0 +1,242 @@
+// The NMPC on random robots (tests/dynamics/random_robot.hpp: chains and branches, every joint
+// kind) with the end-effector task of random_task.hpp, at the sizes of the size matrix (nv = 1,
+// 3, 7 (nx = 14, nu = 7: the QP of issue 35's -march=native crash), 12), built once per
+// instruction set (tests/nmpc/CMakeLists.txt: ARBOR_MATRIX_ISA):
+//   - the Gauss-Newton SCQP and the exact-Hessian SQP, from the same guess, converge to the same
+//     optimum (same local minimiser: the plans agree to the tolerance of the scalar);
+//   - a real-time-iteration closed loop against a plant simulated here (arbor's aba, RK4 at a
+//     quarter of the controller's step), with a large jump of the measured state in the middle
+//     (shoulder +0.5 rad): every control finite, the plant's state finite, and the loop back in
+//     the tunnel at the end; the controller in double and in float (plant in double).
+// Everything runs under the allocation guard.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "alloc_guard.hpp"
+#include "arbor/dynamics/aba.hpp"
+#include "arbor/nmpc/controller.hpp"
+#include "isa.hpp"
+#include "random_robot.hpp"
+#include "random_task.hpp"
+#include "status_names.hpp"
+
+namespace arbor::nmpc {
+using ::arbor::test::status_names::operator<<;
+}
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;
+}
+
+namespace {
+namespace ad = arbor::ad;
+namespace nmpc = arbor::nmpc;
+using arbor::nmpc::NmpcStatus;
+using arbor::ocp::HessianKind;
+
+template <class R, int N>
+using TaskOf = nmpc_test::RandomTask<R, R::nb - 1, N>;
+
+/// GN and exact Hessian from the same guess: both converge, to the same plan.
+template <class R, int N, class T>
+void gauss_newton_matches_exact() {
+  using Task = TaskOf<R, N>;
+  constexpr int nx = Task::nx, nu = Task::nu;
+  SCOPED_TRACE(::testing::Message() << "nv=" << R::nv << " N=" << N << " scalar="
+                                    << (std::is_same_v<T, float> ? "float" : "double"));
+  static typename Task::template Workspace<ad::Analytical, T, false> wg;
+  static typename Task::template Workspace<ad::Analytical, T, true> we;
+  static const auto pg = Task::template problem<ad::Analytical>(wg);
+  static const auto pe = Task::template problem<ad::Analytical>(we);
+  using Pg = std::remove_const_t<decltype(pg)>;
+  using Pe = std::remove_const_t<decltype(pe)>;
+  static nmpc::Nmpc<Pg, T, HessianKind::gauss_newton> gn(pg);
+  static nmpc::Nmpc<Pe, T, HessianKind::exact> ex(pe);
+  using Vx = Eigen::Matrix<T, nx, 1>;
+  using Vu = Eigen::Matrix<T, nu, 1>;
+  Vx x0 = Vx::Zero();
+  x0.template head<R::nv>() = Task::q_start().template cast<T>();
+  ASSERT_EQ(gn.set_initial_guess(x0, Vu::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(ex.set_initial_guess(x0, Vu::Zero()), NmpcStatus::prepared);
+  gn.settings().max_iter = 100;
+  ex.settings().max_iter = 100;
+  NmpcStatus sg, se;
+  {
+    arbor::test::NoAllocScope guard;
+    sg = gn.solve(x0);
+    se = ex.solve(x0);
+  }
+  EXPECT_EQ(sg, NmpcStatus::converged)
+      << "GN: " << gn.info().iterations << " iterations, qp " << gn.info().qp_status;
+  EXPECT_EQ(se, NmpcStatus::converged)
+      << "exact: " << ex.info().iterations << " iterations, qp " << ex.info().qp_status;
+  // Same minimiser: the plans agree to the scalar's accuracy, relative to the plan's size.
+  const double tol = std::is_same_v<T, float> ? 2e-2 : 1e-6;
+  double dx = 0, du = 0, sx = 1, su = 1;
+  for (int k = 0; k <= N; ++k) {
+    dx = std::max(dx, double((gn.state(k) - ex.state(k)).cwiseAbs().maxCoeff()));
+    sx = std::max(sx, double(gn.state(k).cwiseAbs().maxCoeff()));
+  }
+  for (int k = 0; k < N; ++k) {
+    du = std::max(du, double((gn.input(k) - ex.input(k)).cwiseAbs().maxCoeff()));
+    su = std::max(su, double(gn.input(k).cwiseAbs().maxCoeff()));
+  }
+  EXPECT_LE(dx, tol * sx) << "states differ";
+  EXPECT_LE(du, tol * su) << "inputs differ";
+  std::printf("  [%s] nv=%d GN %d it, exact %d it: max |dx| %.2e, |du| %.2e\n",
+              std::is_same_v<T, float> ? "float " : "double", R::nv, gn.info().iterations,
+              ex.info().iterations, dx, du);
+}
+
+/// The plant: x+ = RK4 of [qd, aba(q, qd, tau)] over h in 4 substeps (double).
+template <class R>
+Eigen::Matrix<double, 2 * R::nv, 1> plant_step(const Eigen::Matrix<double, 2 * R::nv, 1>& x,
+                                               const Eigen::Matrix<double, R::nv, 1>& tau,
+                                               double h) {
+  constexpr int n = R::nv;
+  using X = Eigen::Matrix<double, 2 * n, 1>;
+  static arbor::Data<R, double> d;
+  const auto f = [&](const X& y) {
+    X r;
+    r.template head<n>() = y.template tail<n>();
+    r.template tail<n>() =
+        arbor::aba<R>(d, y.template head<n>().eval(), y.template tail<n>().eval(), tau);
+    return r;
+  };
+  X y = x;
+  const double s = h / 4;
+  for (int i = 0; i < 4; ++i) {
+    const X k1 = f(y), k2 = f(y + 0.5 * s * k1), k3 = f(y + 0.5 * s * k2), k4 = f(y + s * k3);
+    y += s / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  return y;
+}
+
+/// RTI closed loop with a jump of the measured state at sample 20 (shoulder +0.5 rad: out of the
+/// tunnel, which is soft here so the QP stays feasible): every sample's QP solved, controls and
+/// states finite, back in the tunnel at the end.
+template <class R, int N, class T>
+void rti_closed_loop() {
+  using Task = TaskOf<R, N>;
+  constexpr int nx = Task::nx, nu = Task::nu, n = R::nv;
+  SCOPED_TRACE(::testing::Message() << "nv=" << n << " N=" << N << " scalar="
+                                    << (std::is_same_v<T, float> ? "float" : "double"));
+  static typename Task::template Workspace<ad::Analytical, T, false> ws;
+  static const auto p = Task::template problem<ad::Analytical, true>(ws);
+  using P = std::remove_const_t<decltype(p)>;
+  static nmpc::Nmpc<P, T> c(p);
+  using Vx = Eigen::Matrix<T, nx, 1>;
+  using Vu = Eigen::Matrix<T, nu, 1>;
+  Eigen::Matrix<double, nx, 1> x = Eigen::Matrix<double, nx, 1>::Zero();
+  x.template head<n>() = Task::q_start();
+  ASSERT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::prepared);
+  c.settings().max_iter = 100;
+  {
+    arbor::test::NoAllocScope guard;
+    (void)c.solve(x.template cast<T>());  // a converged start, as a controller is started
+  }
+  constexpr int samples = 60, jump = 20;
+  int failed = 0;
+  double worst_qd = 0;
+  for (int s = 0; s < samples; ++s) {
+    if (s == jump)
+      x[0] += 0.5;  // the measured state jumps (a push): the plan no longer starts there
+    NmpcStatus sp, sf;
+    {
+      arbor::test::NoAllocScope guard;
+      c.shift();
+      sp = c.prepare();
+      sf = c.feedback(x.template cast<T>());
+    }
+    ASSERT_EQ(sp, NmpcStatus::prepared) << "sample " << s;
+    EXPECT_EQ(sf, NmpcStatus::step_taken) << "sample " << s << ": qp " << c.info().qp_status
+                                          << " after " << c.info().qp_iterations << " iterations";
+    if (sf != NmpcStatus::step_taken)
+      ++failed;
+    const Vu u = c.control();
+    ASSERT_TRUE(u.allFinite()) << "sample " << s;
+    x = plant_step<R>(x, u.template cast<double>(), Task::h);
+    ASSERT_TRUE(x.allFinite()) << "sample " << s;
+    worst_qd = std::max(worst_qd, x.template tail<n>().cwiseAbs().maxCoeff());
+  }
+  const double excess = Task::tunnel_excess(x.template head<n>().eval());
+  EXPECT_LE(excess, 1e-3) << "not back in the tunnel at the end";
+  std::printf("  [%s] nv=%d RTI: %d failed samples, max |qd| %.3f, tunnel excess at the end %.2e\n",
+              std::is_same_v<T, float> ? "float " : "double", n, failed, worst_qd, excess);
+}
+
+/// The hard tunnel and the same jump: the measured state is then outside the tunnel, so the QP
+/// of that sample is infeasible (the constraint at stage 0 is out of reach of any input). The
+/// Gauss-Newton QP is convex by construction: in double and in float it must say `infeasible`,
+/// never `non_convex` (issue 35: the float QP said non_convex after one iteration, from a
+/// factorization that round-off broke). Returns the QP status of the jump sample.
+template <class R, int N, class T>
+arbor::qp::QpStatus hard_tunnel_jump_status() {
+  using Task = TaskOf<R, N>;
+  constexpr int nx = Task::nx, nu = Task::nu, n = R::nv;
+  static typename Task::template Workspace<ad::Analytical, T, false> ws;
+  static const auto p = Task::template problem<ad::Analytical, false>(ws);
+  using P = std::remove_const_t<decltype(p)>;
+  static nmpc::Nmpc<P, T> c(p);
+  using Vu = Eigen::Matrix<T, nu, 1>;
+  Eigen::Matrix<double, nx, 1> x = Eigen::Matrix<double, nx, 1>::Zero();
+  x.template head<n>() = Task::q_start();
+  EXPECT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::prepared);
+  c.settings().max_iter = 100;
+  arbor::test::NoAllocScope guard;
+  (void)c.solve(x.template cast<T>());
+  for (int s = 0; s < 5; ++s) {
+    c.shift();
+    EXPECT_EQ(c.prepare(), NmpcStatus::prepared);
+    EXPECT_EQ(c.feedback(x.template cast<T>()), NmpcStatus::step_taken) << "sample " << s;
+    x = plant_step<R>(x, c.control().template cast<double>(), Task::h);
+  }
+  x[0] += 0.5;
+  c.shift();
+  EXPECT_EQ(c.prepare(), NmpcStatus::prepared);
+  const NmpcStatus sf = c.feedback(x.template cast<T>());
+  EXPECT_EQ(sf, NmpcStatus::qp_failed) << "the tunnel is out of reach at stage 0";
+  EXPECT_TRUE(c.control().allFinite());
+  std::printf("  [%s] nv=%d hard tunnel, state out of it: %s, QP %s after %d iterations\n",
+              std::is_same_v<T, float> ? "float " : "double", n, arbor::nmpc::to_string(sf),
+              arbor::qp::to_string(c.info().qp_status), c.info().qp_iterations);
+  return c.info().qp_status;
+}
+
+using R1 = arbor::test::RandomRobot<11, 1>;
+using R3 = arbor::test::RandomRobot<13, 3>;
+using R7 = arbor::test::RandomRobot<17, 7>;
+using R12 = arbor::test::RandomRobot<19, 12>;
+
+TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
+  arbor::test::print_isa();
+}
+
+TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgree) {
+  gauss_newton_matches_exact<R1, 6, double>();
+  gauss_newton_matches_exact<R3, 9, double>();
+  gauss_newton_matches_exact<R7, 20, double>();
+#if !ARBOR_MATRIX_SMALL
+  gauss_newton_matches_exact<R12, 5, double>();
+#endif
+}
+TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgreeInFloat) {
+  gauss_newton_matches_exact<R3, 9, float>();
+  gauss_newton_matches_exact<R7, 20, float>();
+}
+TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJump) {
+  rti_closed_loop<R1, 6, double>();
+  rti_closed_loop<R7, 20, double>();
+#if !ARBOR_MATRIX_SMALL
+  rti_closed_loop<R12, 5, double>();
+#endif
+}
+TEST(NmpcRandomMatrix, HardTunnelOutOfReachIsInfeasibleInDoubleAndFloat) {
+  EXPECT_EQ((hard_tunnel_jump_status<R7, 20, double>()), arbor::qp::QpStatus::infeasible);
+  EXPECT_EQ((hard_tunnel_jump_status<R7, 20, float>()), arbor::qp::QpStatus::infeasible);
+}
+TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJumpInFloat) {
+  rti_closed_loop<R7, 20, float>();
+}
+}  // namespace

@@ -1,0 +1,225 @@
+// The QP size matrix (issue 35): random, strictly convex, feasible-by-construction OcpQps of many
+// sizes, solved by the OCP solver (default Riccati backend) in double or float and checked
+//   - against the dense solver (DenseQpSolver: the same active-set logic on a dense Cholesky, a
+//     different linear algebra) on the same problem in double: same point (unique minimiser);
+//   - by KKT residuals recomputed here from the OcpQp's stages with plain loops in double
+//     (stationarity, feasibility, complementarity, multiplier signs), independent of both solvers.
+// Above kDenseMax variables the dense solver is left out and the KKT check decides alone.
+// Static memory only (portable: host, AArch64, Cortex-M7, Cortex-M4F); no files, no heap.
+// The seed of every case is printed; ARBOR_SEED=<s> in the environment (hosted builds) runs only
+// that seed, so a failing case is reproduced from the command line.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+#include "arbor/qp/dense_qp_solver.hpp"
+#include "arbor/qp/ocp_qp_solver.hpp"
+#include "arbor_test.hpp"
+#include "qp_random_static.hpp"
+#include "status_names.hpp"
+#include "test_log.hpp"
+
+namespace arbor::qp {
+using ::arbor::test::status_names::operator<<;  // failure messages print status names
+}
+
+namespace qp_matrix {
+
+using arbor::qp::QpStatus;
+
+/// The equivalent dense QP (the flat layout of problem.hpp), written here from the stages.
+template <class Qp, class Dense>
+void to_dense(const Qp& q, Dense& d) {
+  constexpr int N = Qp::horizon, NX = Qp::nx, NU = Qp::nu, NG = Qp::ng, NGN = Qp::ngn;
+  d.H.setZero();
+  d.A.setZero();
+  for (int k = 0; k < N; ++k) {
+    const auto& s = q.stage[std::size_t(k)];
+    const int o = Qp::state_offset(k), ou = Qp::input_offset(k), on = Qp::state_offset(k + 1);
+    const int r = Qp::dynamics_offset(k), c = Qp::constraint_offset(k);
+    d.H.template block<NX, NX>(o, o) = s.Q;
+    d.H.template block<NU, NX>(ou, o) = s.S;
+    d.H.template block<NX, NU>(o, ou) = s.S.transpose();
+    d.H.template block<NU, NU>(ou, ou) = s.R;
+    d.g.template segment<NX>(o) = s.q;
+    d.g.template segment<NU>(ou) = s.r;
+    d.lbx.template segment<NX>(o) = s.lbx;
+    d.ubx.template segment<NX>(o) = s.ubx;
+    d.lbx.template segment<NU>(ou) = s.lbu;
+    d.ubx.template segment<NU>(ou) = s.ubu;
+    d.A.template block<NX, NX>(r, on).setIdentity();
+    d.A.template block<NX, NX>(r, o) = -s.A;
+    d.A.template block<NX, NU>(r, ou) = -s.B;
+    d.lba.template segment<NX>(r) = s.b;
+    d.uba.template segment<NX>(r) = s.b;
+    d.A.template block<NG, NX>(c, o) = s.C;
+    d.A.template block<NG, NU>(c, ou) = s.D;
+    d.lba.template segment<NG>(c) = s.lg;
+    d.uba.template segment<NG>(c) = s.ug;
+  }
+  const int o = Qp::state_offset(N), c = Qp::constraint_offset(N);
+  d.H.template block<NX, NX>(o, o) = q.terminal.Q;
+  d.g.template segment<NX>(o) = q.terminal.q;
+  d.lbx.template segment<NX>(o) = q.terminal.lbx;
+  d.ubx.template segment<NX>(o) = q.terminal.ubx;
+  d.A.template block<NGN, NX>(c, o) = q.terminal.C;
+  d.lba.template segment<NGN>(c) = q.terminal.lg;
+  d.uba.template segment<NGN>(c) = q.terminal.ug;
+}
+
+/// KKT residuals of (x, lam_x, lam_a) for the dense QP d (double), relative to their scales:
+/// stationarity H x + g + lam_x + A' lam_a = 0; bounds; a positive multiplier only at an upper
+/// bound, a negative one only at a lower bound (complementarity: min(|lam|, distance)).
+struct Kkt {
+  double dual = 0, primal = 0, comp = 0, dscale = 1, pscale = 1, objective = 0;
+};
+template <class Dense, class X, class LX, class LA>
+Kkt kkt(const Dense& d, const X& xs, const LX& lxs, const LA& las) {
+  constexpr int NV = decltype(d.g)::RowsAtCompileTime;
+  constexpr int NA = decltype(d.lba)::RowsAtCompileTime;
+  static Eigen::Matrix<double, NV, 1> x, lx, hx, at;
+  static Eigen::Matrix<double, NA, 1> la, z;
+  x = xs.template cast<double>();
+  lx = lxs.template cast<double>();
+  la = las.template cast<double>();
+  Kkt k;
+  double hmax = 0, gmax = 0, amax = 0, xmax = 0, zmax = 0;
+  for (int i = 0; i < NV; ++i) {
+    double s = 0;
+    for (int j = 0; j < NV; ++j)
+      s += d.H(i, j) * x[j];
+    hx[i] = s;
+  }
+  for (int j = 0; j < NA; ++j) {
+    double s = 0;
+    for (int i = 0; i < NV; ++i)
+      s += d.A(j, i) * x[i];
+    z[j] = s;
+    zmax = std::max(zmax, std::fabs(s));
+  }
+  for (int i = 0; i < NV; ++i) {
+    double s = lx[i];
+    for (int j = 0; j < NA; ++j)
+      s += d.A(j, i) * la[j];
+    at[i] = s;
+    k.dual = std::max(k.dual, std::fabs(hx[i] + d.g[i] + s));
+    hmax = std::max(hmax, std::fabs(hx[i]));
+    gmax = std::max(gmax, std::fabs(d.g[i]));
+    amax = std::max(amax, std::fabs(s));
+    xmax = std::max(xmax, std::fabs(x[i]));
+    k.objective += x[i] * (0.5 * hx[i] + d.g[i]);
+  }
+  k.dscale = 1 + std::max({hmax, gmax, amax});
+  k.pscale = 1 + std::max(xmax, zmax);
+  auto check = [&](double zi, double l, double u, double m) {
+    k.primal = std::max(k.primal, std::max(l - zi, zi - u));
+    if (m > 0)
+      k.comp = std::max(k.comp, std::min(m, std::fabs(u - zi)));  // u = inf: m itself
+    else if (m < 0)
+      k.comp = std::max(k.comp, std::min(-m, std::fabs(zi - l)));
+  };
+  for (int i = 0; i < NV; ++i)
+    check(x[i], d.lbx[i], d.ubx[i], lx[i]);
+  for (int j = 0; j < NA; ++j)
+    check(z[j], d.lba[j], d.uba[j], la[j]);
+  return k;
+}
+
+/// Seeds to run: ARBOR_SEED from the environment (hosted builds) or `count` from seed0.
+inline bool seed_selected(std::uint64_t seed) {
+#if !defined(ARBOR_BARE_METAL)
+  if (const char* e = std::getenv("ARBOR_SEED"))
+    return std::strtoull(e, nullptr, 10) == seed;
+#endif
+  (void)seed;
+  return true;
+}
+
+/// One size: `count` random problems from seed0, the OCP solver in scalar S against the dense
+/// solver in double and the KKT check. Prints one line per size (worst figures and seeds).
+/// Sizes with nv above kDenseMax are checked by the KKT conditions alone (strictly convex: they
+/// certify the unique minimiser): a dense reference of their size costs ~3.5 GB of compiler
+/// memory at -O3 (fixed-size 434 x 434 products) and seconds per solve.
+inline constexpr int kDenseMax = 120;
+
+template <class S, int N, int NX, int NU, int NG, int NGN>
+void check_size(std::uint64_t seed0, int count, const char* isa) {
+  using Qd = arbor::qp::OcpQp<double, N, NX, NU, NG, NGN>;
+  using Qs = arbor::qp::OcpQp<S, N, NX, NU, NG, NGN>;
+  constexpr int NV = Qd::nv, NA = Qd::na;
+  static Qd qd;
+  static Qs qs;
+  constexpr bool with_dense = NV <= kDenseMax;
+  static arbor::qp::DenseQpProblem<double, NV, NA> dp;  // (also the KKT check's data)
+  static arbor::qp::DenseQpSolver<double, with_dense ? NV : 1, with_dense ? NA : 1> dense;
+  static arbor::qp::OcpQpSolver<Qs> solver;
+  constexpr bool single = sizeof(S) == 4;
+  // tolerances: the solver's own (relative 1e-8 / 1e-4) with margin; the point against the
+  // dense solution relative to the solution's scale (float: the data's rounding moves it too)
+  const double tk = single ? 1e-3 : 1e-7, tx = single ? 2e-2 : 1e-6;
+  double worst_x = 0, worst_kkt = 0;
+  int iters = 0;
+  for (int c = 0; c < count; ++c) {
+    const std::uint64_t seed = seed0 + std::uint64_t(c);
+    if (!seed_selected(seed))
+      continue;
+    random_problem(qd, seed);
+    cast_problem<S>(qd, qs);
+    to_dense(qd, dp);
+    QpStatus su, st, sdu = QpStatus::accepted, sd = QpStatus::solved;
+    {
+      arbor::test::NoAllocScope guard;
+      su = solver.setup(qs);
+      solver.cold_start();
+      st = solver.solve();
+      if constexpr (with_dense) {
+        sdu = dense.setup(dp);
+        dense.cold_start();
+        sd = dense.solve();
+      }
+    }
+    arbor::test::log() << "    seed " << seed << ": ocp " << arbor::qp::to_string(st) << " ("
+                       << solver.info().iterations << " it)";
+    if constexpr (with_dense)
+      arbor::test::log() << ", dense " << arbor::qp::to_string(sd) << " ("
+                         << dense.info().iterations << " it)";
+    arbor::test::log() << "\n";
+    ASSERT_EQ(su, QpStatus::accepted) << "seed " << seed;
+    ASSERT_EQ(sdu, QpStatus::accepted) << "seed " << seed;
+    ASSERT_EQ(sd, QpStatus::solved) << "dense reference, seed " << seed;
+    EXPECT_EQ(st, QpStatus::solved) << "seed " << seed << " (reproduce: ARBOR_SEED=" << seed << ")";
+    // the OCP solution in the flat layout
+    static Eigen::Matrix<double, NV, 1> x, lx;
+    static Eigen::Matrix<double, NA, 1> la;
+    x = solver.x().template cast<double>();
+    lx = solver.lam_x().template cast<double>();
+    la = solver.lam_a().template cast<double>();
+    const Kkt k = kkt(dp, x, lx, la);
+    const double e = std::max({k.dual / k.dscale, k.primal / k.pscale, k.comp / k.pscale});
+    EXPECT_LE(e, tk) << "KKT of the OCP solution, seed " << seed << ": dual " << k.dual
+                     << " primal " << k.primal << " comp " << k.comp;
+    double dx = 0;
+    if constexpr (with_dense) {
+      const Kkt kd = kkt(dp, dense.x(), dense.lam_x(), dense.lam_a());
+      EXPECT_LE(kd.dual, 1e-7 * kd.dscale) << "dense reference, seed " << seed;
+      dx = (x - dense.x()).cwiseAbs().maxCoeff() / (1 + dense.x().cwiseAbs().maxCoeff());
+      EXPECT_LE(dx, tx) << "OCP vs dense solution, seed " << seed;
+    }
+    worst_x = std::max(worst_x, dx);
+    worst_kkt = std::max(worst_kkt, e);
+    iters = std::max(iters, solver.info().iterations);
+  }
+  arbor::test::log() << "  [" << isa << (single ? " float" : " double") << "] N=" << N
+                     << " nx=" << NX << " nu=" << NU << " ng=" << NG << " ngn=" << NGN
+                     << " (nv=" << NV << ", na=" << NA << "): " << count << " seeds from " << seed0
+                     << ", worst |x - x_dense| " << worst_x << ", worst KKT " << worst_kkt
+                     << ", most iterations " << iters << "\n";
+}
+
+}  // namespace qp_matrix
