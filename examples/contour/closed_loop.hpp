@@ -67,6 +67,11 @@ struct Options {
   double hold = 0;
   /// the controller's velocity bound is (1 - qd_margin) qd_max (the plant's limit stays qd_max)
   double qd_margin = 0;
+  /// Measured-state filter (0: off): the state the controller gets is the plan's prediction of
+  /// it (x_1 of the last plan, on the controller's model) plus state_filter times the innovation
+  /// (measurement - prediction), on q and qd: a fixed-gain predictor-corrector against
+  /// measurement noise (a model error biases it: use it with the observer)
+  double state_filter = 0;
 };
 
 /// QP primal tolerance of float controllers in real-time iteration. The float QP's default, 1e-4,
@@ -295,6 +300,13 @@ class ContourLoop {
     nm::NmpcStatus st;
     double prep = 0, fb = 0;
     ctrl_.shift();
+    if (options_.state_filter > 0 && !rec.hold) {
+      // after shift(), state(0) is the last plan's x_1: the prediction of this measurement
+      const VecN<double, nx> pred = ctrl_.state(0).template cast<double>();
+      const double a = options_.state_filter;
+      meas.template head<2 * nq>() =
+          pred.template head<2 * nq>() + a * (meas - pred).template head<2 * nq>();
+    }
     if (!options_.sqp) {
       const auto t0 = Timer::now();
       st = ctrl_.prepare();

@@ -100,6 +100,8 @@ void usage(const char* argv0) {
       "  --hold T          start phase: hold the initial pose for T s before the task starts\n"
       "                    (default 0.5; the figures count from the task's start)\n"
       "  --qd-margin M     the controller's velocity bound is (1 - M) qd_max (default 0)\n"
+      "  --state-filter A  the controller gets prediction + A (measurement - prediction) on q, qd\n"
+      "                    (the last plan's x_1 as the prediction; default 0: off)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard",
@@ -257,6 +259,8 @@ int main(int argc, char** argv) {
       o.observer_plant_rate = p == "plant";
     } else if (a == "--hold") {
       o.hold = std::atof(value("a number"));
+    } else if (a == "--state-filter") {
+      o.state_filter = std::atof(value("a number"));
     } else if (a == "--qd-margin") {
       o.qd_margin = std::atof(value("a number"));
     } else if (a == "--progress") {
