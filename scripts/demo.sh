@@ -9,6 +9,9 @@
 #                not need GoogleTest or IPOPT)
 #   OUT_DIR      where the log and plots go (default $BUILD_DIR/contour)
 #   DEMO=robots  the robot table instead (what the generator made of each robot)
+#   DEMO=scenarios  issue 36's scenarios, one run each (nominal; unknown 0.5 kg payload without
+#                and with the momentum observer; unknown damping and armature; noise, plain and
+#                filtered), their summaries' key lines and scenarios.png side by side
 # Extra arguments go to the program (`bash scripts/demo.sh --help` lists them).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -41,11 +44,29 @@ start=$(date +%s)
 cmake --build "$build" -j2 --target contour
 echo "demo: built in $(($(date +%s) - start)) s"
 mkdir -p "$out"
-status=0
-"$build/examples/contour/contour" --csv "$out/contour.csv" "$@" || status=$?
-for a in "$@"; do [ "$a" = --help ] || [ "$a" = -h ] && exit "$status"; done
 # Debian's python3 has matplotlib; a python3 earlier on PATH (pyenv, venv) may not
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
+if [ "${DEMO:-contour}" = scenarios ]; then
+  names=(nominal payload payload_observer damping_armature noise noise_filtered)
+  args=("" "--mismatch" "--mismatch --observer" "--damping 0.5 --armature 0.05" "--noise 1e-3"
+        "--noise 1e-3 --state-filter 0.3 --backoff 1e-3")
+  plots=()
+  status=0
+  for i in "${!names[@]}"; do
+    n=${names[$i]}
+    echo "== $n: contour ${args[$i]} $*"
+    # shellcheck disable=SC2086
+    "$build/examples/contour/contour" --progress 0 --csv "$out/$n.csv" ${args[$i]} "$@" \
+      >"$out/$n.txt" || status=$?
+    grep -E "start phase \(|tunnel error max|max \|qd\||max \|tau\||final s|failures" "$out/$n.txt"
+    plots+=("$n=$out/$n.csv")
+  done
+  "$py" "$root/examples/contour/plot_scenarios.py" "$out/scenarios.png" "${plots[@]}"
+  exit "$status"
+fi
+status=0
+"$build/examples/contour/contour" --csv "$out/contour.csv" "$@" || status=$?
+for a in "$@"; do [ "$a" = --help ] || [ "$a" = -h ] && exit "$status"; done
 "$py" "$root/examples/contour/plot.py" "$out/contour.csv" "$out"
 exit "$status"

@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
   {  // first: one linearisation at a fixed plan (no solver in between: only round-off differs)
     auto& c = loop->controller();
     for (int k = 0; k <= contour::horizon; ++k) {
-      Loop::Controller::Vp p;
+      Loop::Controller::Vp p = Loop::Controller::Vp::Zero();  // d = 0
       p[0] = k == 0 ? 0 : 1;
       c.set_parameter(k, p);
       Loop::Controller::Vx x = Loop::Controller::Vx::Zero();

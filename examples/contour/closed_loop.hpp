@@ -24,6 +24,7 @@
 #include <type_traits>
 
 #include "arbor/nmpc/controller.hpp"
+#include "arbor/nmpc/momentum_observer.hpp"
 #include "plant.hpp"
 #include "task.hpp"
 
@@ -55,6 +56,22 @@ struct Options {
   /// shift() moves the multipliers with the plan (NmpcSettings::shift_multipliers; off: the
   /// library's default, the QP starts from the last solution's working set stage by stage)
   bool shift_multipliers = false;
+  /// The generalized-momentum observer (arbor/nmpc/momentum_observer.hpp) estimates the joint
+  /// torque the controller's model lacks and feeds it to the OCP as the stage parameters d
+  /// (OCP-FD: FD(q, qd, tau + d); task.hpp)
+  bool observer = false;
+  double observer_gain = 20;        ///< its gain K [1/s] (bandwidth)
+  bool observer_plant_rate = true;  ///< update it after every plant step (else once per sample)
+  /// start phase [s]: the controller holds the initial pose (s and sd bounded to 0) before the
+  /// task starts; the observer settles meanwhile
+  double hold = 0;
+  /// the controller's velocity bound is (1 - qd_margin) qd_max (the plant's limit stays qd_max)
+  double qd_margin = 0;
+  /// Measured-state filter (0: off): the state the controller gets is the plan's prediction of
+  /// it (x_1 of the last plan, on the controller's model) plus state_filter times the innovation
+  /// (measurement - prediction), on q and qd: a fixed-gain predictor-corrector against
+  /// measurement noise (a model error biases it: use it with the observer)
+  double state_filter = 0;
 };
 
 /// QP primal tolerance of float controllers in real-time iteration. The float QP's default, 1e-4,
@@ -99,6 +116,8 @@ struct Record {
   int sqp_iterations = 0, qp_iterations = 0;
   arbor::nmpc::NmpcStatus status = arbor::nmpc::NmpcStatus::step_taken;
   arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
+  bool hold = false;                                  ///< the sample ran in the start phase
+  VecN<double, nq> d_hat = VecN<double, nq>::Zero();  ///< the observer's estimate after it
 };
 
 template <Formulation F, class Tag, bool Soft, class Scalar = double, class Timer = SteadyTimer,
@@ -118,8 +137,9 @@ class ContourLoop {
   explicit ContourLoop(const Options& o)
       : options_(o),
         ref_(make_reference(o.c)),
-        problem_(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - backoff(o),
-                                            o.scaled_tunnel || o.sqp)),
+        problem_(with_margin(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - backoff(o),
+                                                        o.scaled_tunnel || o.sqp),
+                             o.qd_margin)),
         ctrl_(problem_),
         rng_(o.seed) {}
   ContourLoop(const ContourLoop&) = delete;
@@ -136,6 +156,44 @@ class ContourLoop {
     return o.backoff < 0 ? default_backoff<Scalar> : o.backoff;
   }
 
+  /// The problem with the velocity bounds (1 - margin) qd_max.
+  static Problem with_margin(Problem p, double margin) {
+    for (int i = 0; i < nq; ++i) {
+      p.lbx[nq + i] = -(1 - margin) * qd_max;
+      p.ubx[nq + i] = (1 - margin) * qd_max;
+    }
+    return p;
+  }
+
+  /// Start phase (hold): s and sd bounded to 0 on every stage, sdd to 0; else the problem's.
+  void set_hold(bool hold) {
+    using Vx = typename Controller::Vx;
+    using Vu = typename Controller::Vu;
+    Vx lb = problem_.lbx.template cast<Scalar>(), ub = problem_.ubx.template cast<Scalar>();
+    Vu lbu = problem_.lbu.template cast<Scalar>(), ubu = problem_.ubu.template cast<Scalar>();
+    if (hold) {
+      ub[14] = ub[15] = 0;
+      lbu[7] = ubu[7] = 0;
+    }
+    for (int k = 0; k <= horizon; ++k) {
+      ctrl_.set_state_bounds(k, lb, ub);
+      if (k < horizon)
+        ctrl_.set_input_bounds(k, lbu, ubu);
+    }
+    holding_ = hold;
+  }
+
+  /// Stage parameters: the tunnel's weight (0 on stage 0) and the observer's estimate d.
+  void set_parameters() {
+    for (int k = 0; k <= horizon; ++k) {
+      typename Controller::Vp p = Controller::Vp::Zero();
+      p[0] = Scalar(k == 0 ? 0 : 1);  // the tunnel is not imposed on the measured x_0
+      if (options_.observer)
+        p.template tail<nq>() = obs_.estimate().template cast<Scalar>();
+      ctrl_.set_parameter(k, p);
+    }
+  }
+
   /// Plant at x0; the first OCP solved to convergence from a gravity-compensating guess.
   arbor::nmpc::NmpcStatus start() {
     VecN<double, nx> x0 = VecN<double, nx>::Zero();
@@ -147,11 +205,19 @@ class ContourLoop {
         external_->x = x0;
     t_ = 0;
     samples_ = 0;
-    for (int k = 0; k <= horizon; ++k) {
-      typename Controller::Vp p;
-      p[0] = Scalar(k == 0 ? 0 : 1);  // the tunnel is not imposed on the measured x_0
-      ctrl_.set_parameter(k, p);
+    hold_samples_ = int(std::lround(options_.hold / h));
+    double obs_dt = h;
+    if (options_.observer_plant_rate) {
+      obs_dt = PlantModel::dt;
+      if constexpr (has_external)
+        if constexpr (requires { external_->options().dt; })
+          if (external_)
+            obs_dt = external_->options().dt;
     }
+    obs_.set_gain(options_.observer_gain, obs_dt);
+    (void)obs_.reset(initial_q(), VecN<double, nq>::Zero());
+    set_parameters();
+    set_hold(hold_samples_ > 0);
     VecN<double, nu> u0 = VecN<double, nu>::Zero();
     if constexpr (F == Formulation::fd)  // gravity compensation at q0
       u0.head<nq>() = arbor::rnea<Robot>(nominal_.nominal, initial_q(), VecN<double, nq>::Zero(),
@@ -200,22 +266,47 @@ class ContourLoop {
   /// One sample (see the top of this file); fills rec.
   void sample(Record& rec) {
     const VecN<double, nu> u = ctrl_.control().template cast<double>();
-    on_plant([&](auto& p) { p.step(F, u); });
+    const bool fast = options_.observer && options_.observer_plant_rate;
+    // the torque loop's observer: after every plant step, from its (noisy) measurement
+    auto hook = [&](const VecN<double, nq>& q, const VecN<double, nq>& v,
+                    const VecN<double, nq>& tau) {
+      if (!fast)
+        return;
+      VecN<double, nq> qm = q, vm = v;
+      add_noise(qm, vm);
+      (void)obs_.update(qm, vm, tau);
+    };
+    on_plant([&](auto& p) { p.step(F, u, hook); });
     ++samples_;
     t_ += h;
     const auto& pl = plant_x();
     VecN<double, nx> meas = pl;
-    if (options_.noise > 0) {
-      std::normal_distribution<double> n(0.0, options_.noise);
-      for (int i = 0; i < nq; ++i) {
-        meas[i] += n(rng_);
-        meas[nq + i] += 10 * n(rng_);
-      }
+    {
+      VecN<double, nq> qm = meas.template head<nq>(), vm = meas.template segment<nq>(nq);
+      add_noise(qm, vm);
+      meas.template head<nq>() = qm;
+      meas.template segment<nq>(nq) = vm;
     }
+    rec.hold = holding_;
+    if (options_.observer) {
+      if (!fast)  // once per sample, with the torque held over it
+        (void)obs_.update(meas.template head<nq>(), meas.template segment<nq>(nq),
+                          on_plant([](auto& p) { return VecN<double, nq>(p.tau_applied); }));
+      set_parameters();
+    }
+    if (holding_ && samples_ >= hold_samples_)
+      set_hold(false);  // the task starts with the control computed now
     namespace nm = arbor::nmpc;
     nm::NmpcStatus st;
     double prep = 0, fb = 0;
     ctrl_.shift();
+    if (options_.state_filter > 0 && !rec.hold) {
+      // after shift(), state(0) is the last plan's x_1: the prediction of this measurement
+      const VecN<double, nx> pred = ctrl_.state(0).template cast<double>();
+      const double a = options_.state_filter;
+      meas.template head<2 * nq>() =
+          pred.template head<2 * nq>() + a * (meas - pred).template head<2 * nq>();
+    }
     if (!options_.sqp) {
       const auto t0 = Timer::now();
       st = ctrl_.prepare();
@@ -247,6 +338,7 @@ class ContourLoop {
     rec.qp_iterations = ctrl_.info().qp_iterations;
     rec.status = st;
     rec.qp_status = ctrl_.info().qp_status;
+    rec.d_hat = obs_.estimate();
   }
 
   /// s reached s_end or the sample budget is spent.
@@ -264,6 +356,9 @@ class ContourLoop {
   arbor::nmpc::NmpcStatus start_status() const { return start_status_; }
   int start_iterations() const { return start_iterations_; }
   int samples() const { return samples_; }
+  /// Samples of the start phase (Options::hold).
+  int hold_samples() const { return hold_samples_; }
+  const arbor::nmpc::MomentumObserver<Robot, double>& observer() const { return obs_; }
 
  private:
   /// fn(plant) on the plant that runs the loop: the external one if set, else arbor's nominal or
@@ -274,6 +369,17 @@ class ContourLoop {
       if (external_)
         return fn(*external_);
     return options_.mismatch ? fn(payload_) : fn(nominal_);
+  }
+
+  /// Measurement noise (Options::noise on q, 10x on qd).
+  void add_noise(VecN<double, nq>& q, VecN<double, nq>& v) {
+    if (options_.noise <= 0)
+      return;
+    std::normal_distribution<double> n(0.0, options_.noise);
+    for (int i = 0; i < nq; ++i) {
+      q[i] += n(rng_);
+      v[i] += 10 * n(rng_);
+    }
   }
 
   Options options_;
@@ -289,6 +395,9 @@ class ContourLoop {
   int samples_ = 0;
   arbor::nmpc::NmpcStatus start_status_ = arbor::nmpc::NmpcStatus::not_prepared;
   int start_iterations_ = 0;
+  arbor::nmpc::MomentumObserver<Robot, double> obs_{20.0, h};  ///< the disturbance observer
+  int hold_samples_ = 0;                                       ///< samples of the start phase
+  bool holding_ = false;                                       ///< the start phase's bounds are set
 };
 
 }  // namespace contour

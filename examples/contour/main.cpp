@@ -92,6 +92,16 @@ void usage(const char* argv0) {
       "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
       "  --shift-multipliers  shift() moves the multipliers with the plan (the QP's warm start\n"
       "                    one stage earlier; default: kept in place, see README)\n"
+      "  --observer        generalized-momentum observer (arbor/nmpc/momentum_observer.hpp): the\n"
+      "                    joint torque the model lacks, estimated and fed to the OCP (OCP-FD)\n"
+      "  --observer-gain K its gain [1/s] (default 20)\n"
+      "  --observer-rate R plant (default: after every plant step, the torque loop's rate) or\n"
+      "                    sample (once per 0.02 s sample)\n"
+      "  --hold T          start phase: hold the initial pose for T s before the task starts\n"
+      "                    (default 0.5; the figures count from the task's start)\n"
+      "  --qd-margin M     the controller's velocity bound is (1 - M) qd_max (default 0)\n"
+      "  --state-filter A  the controller gets prediction + A (measurement - prediction) on q, qd\n"
+      "                    (the last plan's x_1 as the prediction; default 0: off)\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard",
@@ -119,7 +129,10 @@ void write_csv(const char* path, const std::vector<Record>& log) {
       std::fprintf(f, ",%s%d", name, i);
   for (int i = 1; i <= nu; ++i)
     std::fprintf(f, ",u%d", i);
-  std::fprintf(f, ",prepare_us,feedback_us,sqp_iterations,qp_iterations,status,qp_status\n");
+  std::fprintf(f, ",prepare_us,feedback_us,sqp_iterations,qp_iterations,status,qp_status,hold");
+  for (int i = 1; i <= nq; ++i)
+    std::fprintf(f, ",d%d", i);
+  std::fprintf(f, "\n");
   for (const Record& r : log) {
     std::fprintf(f, "%.4f,%.9g,%.9g,%.9g", r.t, r.x[14], r.x[15], r.sd_ref);
     for (int i = 0; i < 3; ++i)
@@ -135,9 +148,12 @@ void write_csv(const char* path, const std::vector<Record>& log) {
       std::fprintf(f, ",%.6g", r.tau_peak[i]);
     for (int i = 0; i < nu; ++i)
       std::fprintf(f, ",%.6g", r.u[i]);
-    std::fprintf(f, ",%.2f,%.2f,%d,%d,%s,%s\n", r.prepare_us, r.feedback_us, r.sqp_iterations,
+    std::fprintf(f, ",%.2f,%.2f,%d,%d,%s,%s,%d", r.prepare_us, r.feedback_us, r.sqp_iterations,
                  r.qp_iterations, arbor::nmpc::to_string(r.status),
-                 arbor::qp::to_string(r.qp_status));
+                 arbor::qp::to_string(r.qp_status), r.hold ? 1 : 0);
+    for (int i = 0; i < nq; ++i)
+      std::fprintf(f, ",%.6g", r.d_hat[i]);
+    std::fprintf(f, "\n");
   }
   std::fclose(f);
 }
@@ -146,6 +162,7 @@ void write_csv(const char* path, const std::vector<Record>& log) {
 
 int main(int argc, char** argv) {
   Options o;
+  o.hold = 0.5;  // the demo starts as a robot starts a task
   bool use_mujoco = CONTOUR_MUJOCO != 0;
 #if CONTOUR_MUJOCO
   MujocoPlantOptions mo;
@@ -229,6 +246,23 @@ int main(int argc, char** argv) {
       o.qp_max_iter = std::atoi(value("a number"));
     } else if (a == "--shift-multipliers") {
       o.shift_multipliers = true;
+    } else if (a == "--observer") {
+      o.observer = true;
+    } else if (a == "--observer-gain") {
+      o.observer_gain = std::atof(value("a number"));
+    } else if (a == "--observer-rate") {
+      const std::string p = value("plant or sample");
+      if (p != "plant" && p != "sample") {
+        std::fprintf(stderr, "--observer-rate: plant or sample, not %s\n", p.c_str());
+        return 2;
+      }
+      o.observer_plant_rate = p == "plant";
+    } else if (a == "--hold") {
+      o.hold = std::atof(value("a number"));
+    } else if (a == "--state-filter") {
+      o.state_filter = std::atof(value("a number"));
+    } else if (a == "--qd-margin") {
+      o.qd_margin = std::atof(value("a number"));
     } else if (a == "--progress") {
       progress = std::atoi(value("a number"));
     } else {
@@ -284,6 +318,11 @@ int main(int argc, char** argv) {
       sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * Loop::backoff(o),
       o.mismatch ? "+0.5 kg payload" : "nominal model", o.noise > 0 ? ", measurement noise" : "");
   std::printf("plant: %s\n", plant_name.c_str());
+  if (o.observer)
+    std::printf("momentum observer: gain %g 1/s, updated %s\n", o.observer_gain,
+                o.observer_plant_rate ? "after every plant step" : "once per sample");
+  if (o.hold > 0)
+    std::printf("start phase: the initial pose held for %g s\n", o.hold);
   const auto st0 = loop.start();
   std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
               loop.start_iterations());
@@ -311,7 +350,23 @@ int main(int argc, char** argv) {
   double e_max = 0, e_sq = 0, eR_max = 0, qd_ratio = 0, q_ratio = 0;
   VecN<double, nq> tau_peak = VecN<double, nq>::Zero();
   int outside = 0;
+  // the start phase (hold) separately: the goals count from the task's start
+  double hold_e = 0, hold_qd = 0;
+  int hold_n = 0;
   for (const Record& r : log) {
+    if (!r.hold)
+      continue;
+    ++hold_n;
+    hold_e = std::max(hold_e, r.e_p);
+    for (int i = 0; i < nq; ++i)
+      hold_qd = std::max(hold_qd, std::fabs(r.x[nq + i]) / qd_max);
+  }
+  std::vector<Record> task;
+  task.reserve(log.size());
+  for (const Record& r : log)
+    if (!r.hold)
+      task.push_back(r);
+  for (const Record& r : task) {
     prep.push_back(r.prepare_us);
     fb.push_back(r.feedback_us);
     step.push_back(r.prepare_us + r.feedback_us);
@@ -337,9 +392,9 @@ int main(int argc, char** argv) {
       tau_worst = i;
     }
   }
-  const std::size_t n = log.size();
+  const std::size_t n = task.size();
   const double rms = n ? std::sqrt(e_sq / double(n)) : 0.0;
-  const double s_final = n ? log.back().x[14] : 0.0;
+  const double s_final = n ? task.back().x[14] : 0.0;
   std::printf("\nsummary (%s, %s, %s tunnel, %s; plant %s%s)\n", to_string(kForm), kTagName,
               kSoft ? "soft" : "hard", o.sqp ? "SQP mode" : "RTI", plant_name.c_str(),
               o.mismatch ? ", +0.5 kg payload" : "");
@@ -357,7 +412,18 @@ int main(int argc, char** argv) {
     row("feedback [us]", fb, "%10.1f ");
   }
   row(o.sqp ? "SQP solve per sample [us]" : "preparation + feedback [us]", step, "%10.1f ");
-  std::printf("  %-34s %10zu (%.2f s)\n", "samples", n, n * h);
+  if (hold_n > 0) {
+    std::printf("  %-34s %10d (%.2f s): tunnel max %.3f mm, max |qd| %.3f of the limit\n",
+                "start phase (hold), samples", hold_n, hold_n * h, 1e3 * hold_e, hold_qd);
+    if (o.observer && !log.empty()) {
+      const Record& r = log[std::size_t(hold_n - 1)];
+      std::printf("  %-34s   ", "observer estimate at the task start");
+      for (int i = 0; i < nq; ++i)
+        std::printf(" %.3f", r.d_hat[i]);
+      std::printf(" N m\n");
+    }
+  }
+  std::printf("  %-34s %10zu (%.2f s)\n", "samples (task)", n, n * h);
   std::printf("  %-34s %10.3f mm (rho = %.1f mm; %d samples outside)\n", "tunnel error max",
               1e3 * e_max, 1e3 * rho, outside);
   std::printf("  %-34s %10.3f mm\n", "tunnel error RMS", 1e3 * rms);

@@ -26,6 +26,7 @@
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/rnea.hpp"
 #include "mujoco_model.hpp"
+#include "plant.hpp"
 #include "task.hpp"
 
 namespace contour {
@@ -71,8 +72,10 @@ class MujocoPlant {
     return true;
   }
 
-  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id).
-  void step(Formulation form, const VecN<double, nu>& u) {
+  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id); after each MuJoCo step
+  /// hook(q, qd, tau) with the state it reached and the torque it applied (plant.hpp's Plant).
+  template <class Hook = NoSubstepHook>
+  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}) {
     tau_peak.setZero();
     mj_.set_state(x.head<nq>(), x.segment<nq>(nq));
     mjData* d = mj_.d;
@@ -95,6 +98,12 @@ class MujocoPlant {
       tau_peak = tau_peak.cwiseMax(tau.cwiseAbs());
       mj_.set_torque(tau);
       mj_step(mj_.m, d);
+      Vq qk, vk;
+      for (int i = 0; i < nq; ++i) {
+        qk[i] = mj_.q(i);
+        vk[i] = mj_.v(i);
+      }
+      hook(qk, vk, tau);
     }
     for (int i = 0; i < nq; ++i) {
       x[i] = mj_.q(i);

@@ -22,6 +22,12 @@
 
 namespace contour {
 
+/// The plants' default substep hook: nothing.
+struct NoSubstepHook {
+  template <class Q, class V, class T>
+  void operator()(const Q&, const V&, const T&) const {}
+};
+
 namespace detail {
 /// The inertia of body b of R with a point mass m at point c (body frame) added.
 constexpr arbor::model::Inertia with_point_mass(const arbor::model::Inertia& in, double m,
@@ -75,8 +81,11 @@ struct Plant {
   Vq tau_applied = Vq::Zero();         ///< the torque of the last substep
   Vq tau_peak = Vq::Zero();            ///< max |tau| over the last sample's substeps
 
-  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id).
-  void step(Formulation form, const VecN<double, nu>& u) {
+  /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id); after each substep
+  /// hook(q, qd, tau) with the state it reached and the torque it applied (a torque loop's
+  /// observer runs there).
+  template <class Hook = NoSubstepHook>
+  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}) {
     tau_peak.setZero();
     for (int k = 0; k < substeps; ++k) {
       Vq tau;
@@ -89,6 +98,7 @@ struct Plant {
       tau_applied = tau;
       tau_peak = tau_peak.cwiseMax(tau.cwiseAbs());
       rk4(tau);
+      hook(Vq(x.head<nq>()), Vq(x.segment<nq>(nq)), tau);
     }
     // s, sd: sdd constant over the sample (exact)
     const double sdd = u[7];

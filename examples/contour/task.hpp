@@ -272,7 +272,7 @@ struct TrackResidualT {
 using TrackResidual = TrackResidualT<double>;
 
 /// The tunnel's e_p = p_ee - p_ref(s) times inv_radius (see make_problem's `scaled`), times the
-/// stage parameter w (1 on stages 1..N-1, 0 on stage 0: x_0 is the measurement, no decision can
+/// stage parameter w = p[0] (1 on stages 1..N-1, 0 on stage 0: x_0 is the measurement, no decision can
 /// change its error, and a hard tunnel that the measurement violates would make the QP
 /// infeasible).
 struct TunnelError {
@@ -318,7 +318,11 @@ constexpr std::array<double, 23> terminal_weights() {
   return w;
 }
 
-using D = ocp::Dims<nx, nu, 1, horizon>;
+/// Stage parameters p = [w, d (7)]: w the tunnel's weight (TunnelError), d the joint torque the
+/// model lacks (OCP-FD: FD(q, qd, tau + d); zero unless a disturbance observer feeds it,
+/// arbor/nmpc/momentum_observer.hpp; OCP-ID does not use it).
+constexpr int np = 1 + nq;
+using D = ocp::Dims<nx, nu, np, horizon>;
 
 /// The OCP of formulation F with provider Tag on workspace ws (caller-owned, outliving the
 /// problem and its controller); Soft: the tunnel with an exact-penalty slack of weight
@@ -355,7 +359,8 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, doubl
 
   auto dynamics = [&] {
     if constexpr (F == Formulation::fd) {
-      const auto ode = ad::cat(qd, ad::call<Tag>(ad::bind<Fd>(ws), q, qd, a), sd, sdd);
+      const auto d = ad::segment<1, nq>(D::p);  // the disturbance estimate
+      const auto ode = ad::cat(qd, ad::call<Tag>(ad::bind<Fd>(ws), q, qd, a + d), sd, sdd);
       return ocp::rk4<1>(ode, h);
     } else {  // exact discretisation of the double integrator
       constexpr double h2 = h * h / 2;

@@ -19,6 +19,7 @@
 #include "arbor/dynamics/dynamics.hpp"
 #include "arbor/model/robot.hpp"
 #include "arbor/nmpc/controller.hpp"
+#include "arbor/nmpc/momentum_observer.hpp"
 #include "arbor/ocp/linearize.hpp"
 #include "arbor/ocp/outer.hpp"
 #include "arbor/ocp/problem.hpp"

@@ -248,8 +248,11 @@ TEST(ContourIpopt, SqpObjectiveMatchesIpoptAlongTheLoop) {
       contour::make_problem<contour::Formulation::fd, arbor::ad::Analytical, false>(
           *ws, ref, options.soft_weight, kRadius);
   const auto ctrl = std::make_unique<Ctrl>(problem);
-  for (int k = 0; k <= kN; ++k)
-    ctrl->set_parameter(k, Ctrl::Vp::Constant(k == 0 ? 0.0 : 1.0));
+  for (int k = 0; k <= kN; ++k) {
+    Ctrl::Vp p = Ctrl::Vp::Zero();  // [tunnel weight, disturbance d = 0]
+    p[0] = k == 0 ? 0.0 : 1.0;
+    ctrl->set_parameter(k, p);
+  }
 
   int compared = 0;
   for (int n = 1; n <= options.max_samples; ++n) {

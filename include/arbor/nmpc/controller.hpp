@@ -26,7 +26,13 @@
 //         ctrl.feedback(x0);                               // RTI: latency = feedback only
 //
 // A failed call (see NmpcStatus) leaves the plan unchanged: control() is always finite, the
-// current plan's u_0 (after shift(), the previous plan's u_1). The multipliers are stored once,
+// current plan's u_0 (after shift(), the previous plan's u_1).
+// A measured state outside its bounds: the violated bounds of the first stages are relaxed to a
+// straight line back to the bound (settings().recovery_stages; status recovering). A QP that
+// keeps failing: from the settings().max_failed_samples-th consecutive failure, the fallback
+// (settings().fallback): the relaxed QP (state bounds and constraint rows dropped for that call;
+// fallback_relaxed) or the user's stop law clipped to the input bounds (set_stop_law;
+// fallback_stop). The multipliers are stored once,
 // in the QP solver (its warm start and its result): after qp_failed they are the solver's best
 // iterate (iteration limit, stall) or zero (infeasible, unbounded, non-finite); after
 // line_search_failed, the rejected QP's. Everything is sized at compile
@@ -41,6 +47,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "arbor/core/config.hpp"
 #include "arbor/nmpc/kkt.hpp"
@@ -71,6 +78,9 @@ class Nmpc {
   using Vp = VecN<Scalar, np>;            ///< stage parameters
   using Settings = NmpcSettings<Scalar>;  ///< settings
   using Info = NmpcInfo<Scalar>;          ///< figures of the last call
+  /// A control law that stops the system (FallbackPolicy::stop): u = law(x, user), e.g. for a
+  /// robot gravity compensation plus joint damping; the controller clips it to the input bounds.
+  using StopLaw = Vu (*)(const Vx& x, void* user);
 
   /// Copies the problem (its expressions and default bounds); plan, parameters and multipliers
   /// start at zero (set a guess with set_initial_guess).
@@ -149,6 +159,11 @@ class Nmpc {
   }
   /// Settings (take effect at the next call).
   Settings& settings() { return settings_; }
+  /// The stop law of the fallback (nullptr: none) and its user pointer.
+  void set_stop_law(StopLaw law, void* user = nullptr) {
+    stop_law_ = law;
+    stop_user_ = user;
+  }
 
   // ---- results --------------------------------------------------------------------------------
   /// The control to apply: u_0 of the current plan (always finite).
@@ -215,12 +230,18 @@ class Nmpc {
       if (lin != NmpcStatus::prepared)
         return lin;
       embed(x0);
+      const bool recovering = relax_violated_bounds(x0);
       record_kkt();
-      if (converged())
-        return NmpcStatus::converged;
-      if (it == settings_.max_iter)
-        return NmpcStatus::iteration_limit;
+      if (converged() || it == settings_.max_iter) {
+        failed_samples_ = 0;
+        info_.failed_samples = 0;
+        if (recovering)
+          return NmpcStatus::recovering;
+        return converged() ? NmpcStatus::converged : NmpcStatus::iteration_limit;
+      }
       const NmpcStatus qs = solve_qp();
+      if (qs == NmpcStatus::qp_failed)
+        return after_qp_failure(x0);
       if (qs != NmpcStatus::step_taken)
         return qs;
       NmpcStatus ls = settings_.line_search ? line_search(x0) : take_step(Scalar(1));
@@ -263,12 +284,18 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     prepared_ = false;
     embed(x0);
+    const bool recovering = relax_violated_bounds(x0);
     info_.iterations = 0;
     info_.qp_iterations = 0;
     const NmpcStatus qs = solve_qp();
+    if (qs == NmpcStatus::qp_failed)
+      return after_qp_failure(x0);
     if (qs != NmpcStatus::step_taken)
       return qs;
-    return take_step(Scalar(1));
+    failed_samples_ = 0;
+    info_.failed_samples = 0;
+    (void)take_step(Scalar(1));
+    return recovering ? NmpcStatus::recovering : NmpcStatus::step_taken;
   }
 
   /// Moves the plan one stage earlier for the next sample: stage k takes stage k+1's values; the
@@ -405,6 +432,72 @@ class Nmpc {
   }
 
  private:
+  /// Relaxes, on stages 1..recovery_stages of the QP, the state bounds that the measured x0
+  /// violates (judged against the bounds of stage 0) to the straight line from x0's value back
+  /// to the bound at stage recovery_stages + 1. Records the violation; true when it relaxed.
+  bool relax_violated_bounds(const Vx& x0) {
+    const Vx over = (x0 - ubx_[0]).cwiseMax(Scalar(0));
+    const Vx under = (lbx_[0] - x0).cwiseMax(Scalar(0));
+    const Scalar viol = std::fmax(over.maxCoeff(), under.maxCoeff());
+    info_.state_violation = viol;
+    const int K = settings_.recovery_stages < N ? settings_.recovery_stages : N;
+    if (K <= 0 || !(viol > settings_.tol_primal))
+      return false;
+    for (int k = 1; k <= K; ++k) {
+      const std::size_t i = std::size_t(k);
+      const Scalar frac = Scalar(K + 1 - k) / Scalar(K + 1);
+      auto& lb = k < N ? qp_.stage[i].lbx : qp_.terminal.lbx;
+      auto& ub = k < N ? qp_.stage[i].ubx : qp_.terminal.ubx;
+      for (int j = 0; j < nx; ++j) {
+        if (over[j] > settings_.tol_primal)
+          ub[j] = std::fmax(ub[j], ubx_[i][j] + frac * over[j] - x_[i][j]);
+        if (under[j] > settings_.tol_primal)
+          lb[j] = std::fmin(lb[j], lbx_[i][j] - frac * under[j] - x_[i][j]);
+      }
+    }
+    return true;
+  }
+
+  /// A call whose QP failed: counts it and, from the max_failed_samples-th consecutive one,
+  /// applies the fallback (FallbackPolicy). Returns qp_failed (plan unchanged),
+  /// fallback_relaxed (the relaxed QP's step taken) or fallback_stop (control() is the stop
+  /// law's).
+  NmpcStatus after_qp_failure(const Vx& x0) {
+    ++failed_samples_;
+    info_.failed_samples = failed_samples_;
+    const int after = settings_.max_failed_samples > 1 ? settings_.max_failed_samples : 1;
+    if (settings_.fallback == FallbackPolicy::stale_plan || failed_samples_ < after)
+      return NmpcStatus::qp_failed;
+    if (settings_.fallback == FallbackPolicy::relax || stop_law_ == nullptr) {
+      constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
+      for (int k = 0; k < N; ++k) {
+        auto& st = qp_.stage[std::size_t(k)];
+        if (k > 0) {
+          st.lbx.setConstant(-inf);
+          st.ubx.setConstant(inf);
+        }
+        st.lg.setConstant(-inf);
+        st.ug.setConstant(inf);
+      }
+      qp_.terminal.lbx.setConstant(-inf);
+      qp_.terminal.ubx.setConstant(inf);
+      qp_.terminal.lg.setConstant(-inf);
+      qp_.terminal.ug.setConstant(inf);
+      if (finish_qp(solve_prepared_qp()) == NmpcStatus::step_taken) {
+        (void)take_step(Scalar(1));
+        return NmpcStatus::fallback_relaxed;
+      }
+    }
+    if (stop_law_ != nullptr) {
+      const Vu u = stop_law_(x0, stop_user_).cwiseMax(lbu_[0]).cwiseMin(ubu_[0]);
+      if (u.allFinite()) {
+        w_[0].template head<nu>() = u;
+        return NmpcStatus::fallback_stop;
+      }
+    }
+    return NmpcStatus::qp_failed;
+  }
+
   /// The multiplier estimate: the QP solver's multipliers (flat; its warm start and its result,
   /// stored once).
   auto& lam_bounds() { return solver_.lam_x(); }
@@ -541,6 +634,9 @@ class Nmpc {
   std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
   int merit_count_ = 0;                   ///< accepted points in the merit history
   Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
+  StopLaw stop_law_ = nullptr;  ///< the fallback's stop law (set_stop_law)
+  void* stop_user_ = nullptr;   ///< its user pointer
+  int failed_samples_ = 0;      ///< consecutive calls whose QP failed
 };
 
 }  // namespace arbor::nmpc

@@ -8,6 +8,27 @@
 
 namespace arbor::nmpc {
 
+/// What a controller does when its QP keeps failing (NmpcSettings::fallback).
+enum class FallbackPolicy : unsigned char {
+  stale_plan,  ///< nothing: control() replays the stale plan (the arm drifts; not safe)
+  relax,  ///< the QP again with the state bounds of stages >= 1 and every constraint row dropped
+          ///< (always feasible: input bounds only); if that fails too, the stop law if one is set
+  stop,   ///< the stop law (Nmpc::set_stop_law) clipped to the input bounds; none set: relax
+};
+
+/// Name of a FallbackPolicy value.
+constexpr const char* to_string(FallbackPolicy p) {
+  switch (p) {
+    case FallbackPolicy::stale_plan:
+      return "stale_plan";
+    case FallbackPolicy::relax:
+      return "relax";
+    case FallbackPolicy::stop:
+      return "stop";
+  }
+  return "unknown";
+}
+
 /// Settings of an Nmpc controller (see the members for the defaults' meaning).
 template <class Scalar>
 struct NmpcSettings {
@@ -53,6 +74,17 @@ struct NmpcSettings {
       s.reg_dual = Scalar(1e-8);
     return s;
   }();
+  /// A measured state outside its bounds (those of stage 0: the problem's unless set with
+  /// set_state_bounds(0, ...)) by more than tol_primal: on stages k = 1..recovery_stages the
+  /// violated bounds are relaxed to the straight line from the measured value back to the bound
+  /// at stage recovery_stages + 1 (bound + v (K + 1 - k) / (K + 1), v the violation); the call
+  /// returns recovering. 0: no relaxation (the QP is then infeasible whenever no control brings
+  /// the state inside at stage 1).
+  int recovery_stages = 3;
+  /// The fallback applies from the max_failed_samples-th consecutive call whose QP failed
+  /// (before that, qp_failed and the stale plan); >= 1.
+  int max_failed_samples = 2;
+  FallbackPolicy fallback = FallbackPolicy::relax;  ///< see FallbackPolicy
 };
 
 }  // namespace arbor::nmpc

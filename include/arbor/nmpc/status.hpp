@@ -18,6 +18,16 @@ enum class NmpcStatus : unsigned char {
   non_finite_input,       ///< NaN/Inf in the measured state, a parameter, a guess or a bound
   non_finite_evaluation,  ///< a function or derivative of the OCP evaluated to NaN/Inf
   not_prepared,           ///< feedback() without a successful prepare() since the last one
+  /// the measured state violates a state bound: the step was taken (solve(): the iterations ended)
+  /// with the violated bounds relaxed on the first stages (NmpcSettings::recovery_stages), so
+  /// the plan brings the state back instead of assuming the violation away
+  recovering,
+  /// the QP kept failing (NmpcSettings::max_failed_samples): control() is the relaxed QP's
+  /// (state bounds of stages >= 1 and constraint rows dropped for this call, input bounds kept)
+  fallback_relaxed,
+  /// the QP kept failing: control() is the user's stop law (Nmpc::set_stop_law) clipped to the
+  /// input bounds
+  fallback_stop,
 };
 
 /// Name of a status, for logs and test messages.
@@ -41,13 +51,26 @@ constexpr const char* to_string(NmpcStatus s) {
       return "non_finite_evaluation";
     case NmpcStatus::not_prepared:
       return "not_prepared";
+    case NmpcStatus::recovering:
+      return "recovering";
+    case NmpcStatus::fallback_relaxed:
+      return "fallback_relaxed";
+    case NmpcStatus::fallback_stop:
+      return "fallback_stop";
   }
   return "unknown";
 }
 
-/// True when the status means the plan was updated as requested.
+/// True when the status means the plan was updated as requested (recovering included: the
+/// request was met as well as the measured state allows).
 constexpr bool succeeded(NmpcStatus s) {
-  return s == NmpcStatus::converged || s == NmpcStatus::step_taken || s == NmpcStatus::prepared;
+  return s == NmpcStatus::converged || s == NmpcStatus::step_taken || s == NmpcStatus::prepared ||
+         s == NmpcStatus::recovering;
+}
+
+/// True when control() comes from a fallback (the QP kept failing).
+constexpr bool fell_back(NmpcStatus s) {
+  return s == NmpcStatus::fallback_relaxed || s == NmpcStatus::fallback_stop;
 }
 
 /// Figures of the last solve(), or of the last prepare()/feedback() pair.
@@ -65,6 +88,8 @@ struct NmpcInfo {
   Scalar penalty = 0;          ///< the merit's penalty weight nu
   int line_search_steps = 0;   ///< backtracking steps of the last line search
   int hessian_fallbacks = 0;   ///< exact Hessian: iterations redone with Gauss-Newton
+  Scalar state_violation = 0;  ///< max violation of a state bound by the measured x0
+  int failed_samples = 0;      ///< consecutive calls whose QP failed, this one included
 };
 
 }  // namespace arbor::nmpc
