@@ -9,6 +9,7 @@
 #include "arbor/ad/contracted_hessian.hpp"
 #include "arbor/ad/dual.hpp"
 #include "arbor/ad/expr.hpp"
+#include "arbor/ad/frame_functions.hpp"
 #include "arbor/ad/generated.hpp"
 #include "arbor/ad/rbd_functions.hpp"
 #include "arbor/ad/user_function.hpp"
