@@ -20,6 +20,7 @@
 #include "arbor/dynamics/dynamics.hpp"
 #include "arbor/model/robot.hpp"
 #include "arbor/nmpc/controller.hpp"
+#include "arbor/nmpc/workspace.hpp"
 #include "arbor/ocp/linearize.hpp"
 #include "arbor/ocp/outer.hpp"
 #include "arbor/ocp/problem.hpp"
