@@ -1,6 +1,6 @@
 // One variant of the paper's Fig. 2 (bench/nmpc/fig2.sh): the contour NMPC of examples/contour
 // (formulation FIG2_ID, RBD derivative provider FIG2_AUTODIFF: 0 analytical, 1 dual-number AD,
-// 2 code-generated AD (gen/ad; the pose node by dual numbers, task.hpp's NodeTag); hard tunnel,
+// 2 code-generated AD (gen/ad; the pose node by dual numbers, ad::ProviderOf); hard tunnel,
 // double) in closed loop
 // against the example's plant, each controller call timed by phase. Compiled once per variant
 // (the controller instantiation takes ~2 GB of compiler memory).
@@ -18,7 +18,8 @@
 // The RBD Jacobians inside a linearisation cannot be timed in place (they run inside the
 // expression layer), so after each linearisation, outside the timed calls, the same RBD Jacobian
 // calls (per path stage: FD x 4 (one RK4 step) or ID x 1, FramePose, the tunnel's position
-// (task.hpp's PosePosition: analytical, it takes the pose's position rows cached at the same q);
+// (ad::FramePosition on the workspace's PoseCache: analytical, it takes the pose's position rows
+// cached at the same q);
 // terminal: FramePose) are run on a workspace of the same type at the plan's points and timed.
 #include <chrono>
 #include <cmath>
@@ -82,7 +83,7 @@ int rbd_jacobians(Workspace<Tag, double>& ws, const Ctrl& c, double& sink) {
   for (int k = 0; k <= horizon; ++k) {
     const VecN<double, nx>& x = c.state(k);
     const VecN<double, nq> q = x.head<nq>();
-    pose.value_and_jacobian<NodeTag<Tag, Pose>>(q, y12, J12);
+    pose.value_and_jacobian<Tag>(q, y12, J12);  // (Generated: AutoDiff for the pose)
     sink += J12(0, 0);
     ++calls;
     if (k == horizon)

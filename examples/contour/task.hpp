@@ -9,20 +9,12 @@
 //
 // Everything here is generic over the RBD derivative provider Tag (ad::Analytical or
 // ad::AutoDiff, for every RBD call node of the OCP; or ad::Generated, gen/ad's code-generated AD,
-// for FD, ID and the tunnel's position, with AutoDiff for the pose, which has no generated code:
-// NodeTag) and over the controller's scalar. The RBD calls run on a caller-owned workspace
-// (Workspace<Tag, T>, static storage). Generated needs <robots/kinova_gen3_ad.hpp> (CMake target
-// arbor_robot_kinova_gen3_ad) included before this header.
-//
-// What the library lacks and this file adds (candidates for include/arbor/ad):
-//   FramePose<R, F>   q -> [p (3), columns of R (9)] of an operational frame, one forward-
-//                     kinematics pass; analytical Jacobian from the frame Jacobian
-//                     (dR/dq_j = [w_j]x R), AutoDiff through the templates. The rotation error
-//                     e_R needs the rotation, which ad::FramePosition does not give.
-//   PosePosition<R, F> ad::FramePosition whose analytical Jacobian is the last FramePose's
-//                     position rows when taken at the same q (PoseCache in the workspace): the
-//                     tunnel and the stage cost evaluate the end effector at the same q.
-//   PayloadRobot      the Gen3 with a point mass at the end effector (plant-only model mismatch).
+// for FD, ID and the tunnel's position, the pose, which has no generated code, falling back to
+// AutoDiff: ad::ProviderOf) and over the controller's scalar. The RBD calls (ad::FramePose,
+// ad::FramePosition, FD, ID) run on a caller-owned workspace (Workspace<Tag, T>, an
+// nmpc::Workspace; static storage) whose PoseCache lets the tunnel's FramePosition reuse the
+// stage cost's pose Jacobian at the same q. Generated needs <robots/kinova_gen3_ad.hpp> (CMake
+// target arbor_robot_kinova_gen3_ad) included before this header.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,13 +22,13 @@
 #include <cmath>
 #include <cstddef>
 #include <numbers>
-#include <type_traits>
 
 #include <robots/kinova_gen3.hpp>
 #include "arbor/ad/expr.hpp"
+#include "arbor/ad/frame_functions.hpp"
 #include "arbor/ad/rbd_functions.hpp"
-#include "arbor/dynamics/jacobian.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/nmpc/workspace.hpp"
 #include "arbor/ocp/problem.hpp"
 #include "arbor/ocp/rk4.hpp"
 
@@ -127,123 +119,10 @@ VecN<S, 3> rotation_error(const ReferenceT<P>& r, const V& pose) {
   return e;
 }
 
-// ---- FramePose: position and rotation of an operational frame ----------------------------------
-/// q -> [p (3), R.col(0), R.col(1), R.col(2)] of operational frame F (world), an RBD function
-/// object like ad::FramePosition (bind<FramePose<R, F>>(ws), call<Tag>). Analytical Jacobian:
-/// linear rows of the local-world-aligned frame Jacobian, dR/dq_j = [w_j]x R.
-template <arbor::Robot R, int F>
-struct FramePose {
-  using Robot = R;
-  static constexpr int nin = R::nv;                     ///< inputs (q)
-  static constexpr int nout = 12;                       ///< position, rotation columns
-  static constexpr bool needs_derivative_data = false;  ///< J^a needs Data only
-
-  template <class T, class W>
-  static void value(W& ws, const VecN<T, nin>& q, VecN<T, nout>& y) {
-    auto& d = ws.template data<T>();
-    arbor::forward_kinematics<R>(d, q);
-    const auto& M = arbor::frame_placement<R>(d, F);
-    y.template head<3>() = M.p;
-    for (int c = 0; c < 3; ++c)
-      y.template segment<3>(3 + 3 * c) = M.R.col(c);
-  }
-
-  template <class T, class W>
-  static void analytical(W& ws, const VecN<T, nin>& q, VecN<T, nout>& y,
-                         Eigen::Matrix<T, nout, nin>& J) {
-    auto& d = ws.template data<T>();
-    Eigen::Matrix<T, 6, nin> Jf = Eigen::Matrix<T, 6, nin>::Zero();  // (set by the call)
-    arbor::compute_frame_jacobian<R>(d, q, F, arbor::ReferenceFrame::local_world_aligned, Jf);
-    const auto& M = d.oMf[F];
-    y.template head<3>() = M.p;
-    for (int c = 0; c < 3; ++c)
-      y.template segment<3>(3 + 3 * c) = M.R.col(c);
-    J.template topRows<3>() = Jf.template topRows<3>();
-    for (int j = 0; j < nin; ++j) {
-      const VecN<T, 3> w = Jf.col(j).template tail<3>();
-      for (int c = 0; c < 3; ++c)
-        J.template block<3, 1>(3 + 3 * c, j) = w.cross(VecN<T, 3>(M.R.col(c)));
-    }
-    if constexpr (requires { ws.pose_cache; })
-      if constexpr (std::is_same_v<T, typename decltype(ws.pose_cache)::Scalar>)
-        ws.pose_cache.store(F, q, J.template topRows<3>(), M.p);
-  }
-};
-
-/// The position rows of the last analytical FramePose Jacobian and the q it was taken at, kept in
-/// a workspace that has a member `pose_cache` (Workspace below): the stage's tunnel
-/// (PosePosition) evaluates the frame position Jacobian at the q at which its stage cost has
-/// just evaluated the pose's, and takes them from here instead of a second kinematics sweep.
-template <class T>
-struct PoseCache {
-  using Scalar = T;
-  int frame = -1;             ///< the frame of p and J (-1: none stored yet)
-  VecN<T, nq> q;              ///< where p and J were taken
-  VecN<T, 3> p;               ///< frame position
-  Eigen::Matrix<T, 3, nq> J;  ///< its Jacobian (the pose Jacobian's first 3 rows)
-  template <class Q, class Jp, class P>
-  void store(int frame_, const Q& q_, const Jp& J_, const P& p_) {
-    frame = frame_;
-    q = q_;
-    J = J_;
-    p = p_;
-  }
-  /// p and J of frame_ at q_ if they were stored for frame_ at exactly q_ (bitwise; NaN never
-  /// matches).
-  bool lookup(int frame_, const VecN<T, nq>& q_, VecN<T, 3>& p_,
-              Eigen::Matrix<T, 3, nq>& J_) const {
-    if (frame != frame_ || !(q_.array() == q.array()).all())
-      return false;
-    p_ = p;
-    J_ = J;
-    return true;
-  }
-};
-
-/// ad::FramePosition<R, F> that takes its analytical value and Jacobian from the workspace's
-/// pose_cache when the last FramePose<R, F> Jacobian was taken at the same q (the position rows
-/// of the local-world-aligned frame Jacobian, the same quantity as FramePosition's
-/// compute_frame_position_derivative up to round-off), else computes them as FramePosition.
-/// Values and AutoDiff: FramePosition's.
-template <arbor::Robot R, int F>
-struct PosePosition : ad::FramePosition<R, F> {
-  using Base = ad::FramePosition<R, F>;
-  using Base::nin;
-  using Base::nout;
-  template <class T, class W>
-  static void analytical(W& ws, const VecN<T, nin>& q, VecN<T, nout>& y,
-                         Eigen::Matrix<T, nout, nin>& J) {
-    if constexpr (requires { ws.pose_cache; })
-      if constexpr (std::is_same_v<T, typename decltype(ws.pose_cache)::Scalar>)
-        if (ws.pose_cache.lookup(F, q, y, J))
-          return;
-    Base::analytical(ws, q, y, J);
-  }
-};
-
 using Fd = ad::ForwardDynamics<Robot>;
 using Id = ad::InverseDynamics<Robot>;
-using Pose = FramePose<Robot, ee_frame>;
-using Position = PosePosition<Robot, ee_frame>;
-
-/// The provider of RBD call node F under the example's provider Tag: Tag itself, except that
-/// under ad::Generated the pose (position and rotation columns; gen/ad generates FD, ID and frame
-/// positions only) is differentiated by AutoDiff, AD like the rest of that variant.
-template <class Tag, class F>
-using NodeTag = std::conditional_t<std::is_same_v<Tag, ad::Generated> && std::is_same_v<F, Pose>,
-                                   ad::AutoDiff, Tag>;
-
-/// The workspace of every RBD call of both formulations at controller scalar T with provider
-/// Tag: values at T (merit, shift) and Jacobians at T (the controller linearises at
-/// Dual<T, nx + nu>; a call node runs the provider at T, AutoDiff at Dual<T, nin>); and the
-/// pose's position Jacobian for the tunnel (PoseCache).
-template <class Tag, class T>
-struct Workspace : ad::MergedWorkspace<ad::ValueWorkspace<Fd, T>, ad::JacobianWorkspace<Fd, Tag, T>,
-                                       ad::JacobianWorkspace<Id, Tag, T>,
-                                       ad::JacobianWorkspace<Pose, NodeTag<Tag, Pose>, T>,
-                                       ad::JacobianWorkspace<Position, Tag, T>> {
-  PoseCache<T> pose_cache;
-};
+using Pose = ad::FramePose<Robot, ee_frame>;          // q -> [p, columns of R]
+using Position = ad::FramePosition<Robot, ee_frame>;  // q -> p (the tunnel)
 
 // ---- the OCP's nonlinear pieces as generic functions (ad::fn bodies) ----------------------------
 /// [sd - sd_ref(s), e_p (3), e_R (3), 1 - s, sd] from the pose (12) and [s, sd] (reference
@@ -324,6 +203,13 @@ constexpr std::array<double, 23> terminal_weights() {
 constexpr int np = 1 + nq;
 using D = ocp::Dims<nx, nu, np, horizon>;
 
+/// The workspace of every RBD call of both formulations at controller scalar T with provider Tag
+/// (SCQP): values and Jacobians at T, and the pose's position Jacobian for the tunnel (a
+/// PoseCache, since the problem calls ad::FramePose).
+template <class Tag, class T>
+using Workspace =
+    arbor::nmpc::Workspace<D, Tag, T, ocp::HessianKind::gauss_newton, Fd, Id, Pose, Position>;
+
 /// The OCP of formulation F with provider Tag on workspace ws (caller-owned, outliving the
 /// problem and its controller); Soft: the tunnel with an exact-penalty slack of weight
 /// soft_weight (else hard). The controller's tunnel radius is `radius` (rho less a back-off
@@ -343,7 +229,7 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, doubl
   const auto a = ad::segment<0, nq>(D::u);  // tau (FD) or qdd (ID)
   const auto sdd = ad::element<7>(D::u);
 
-  const auto pose = ad::call<NodeTag<Tag, Pose>>(ad::bind<Pose>(ws), q);
+  const auto pose = ad::call<Tag>(ad::bind<Pose>(ws), q);
   const auto track = ad::fn<9>(TrackResidual{ref}, pose, ad::segment<14, 2>(D::x));
   const auto path_cost = ocp::least_squares(ad::cat(track, D::u, q, qd), path_weights<F>());
   const auto terminal_cost = ocp::least_squares(ad::cat(track, q, qd), terminal_weights());
@@ -412,10 +298,3 @@ inline Reference make_reference(double c) {
 }
 
 }  // namespace contour
-
-/// PosePosition is ad::FramePosition with a cache for its analytical Jacobian: under
-/// ad::Generated it runs FramePosition's generated code (available once the robot's generated
-/// header is included).
-template <arbor::Robot R, int F>
-struct arbor::ad::GeneratedCode<contour::PosePosition<R, F>>
-    : arbor::ad::GeneratedCode<arbor::ad::FramePosition<R, F>> {};

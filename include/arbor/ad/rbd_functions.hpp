@@ -21,6 +21,7 @@
 //   ForwardDynamics<R>      x = (q, v, tau) -> ddq         (aba)
 //   InverseDynamics<R>      x = (q, v, a)   -> tau         (rnea)
 //   FramePosition<R, F>     x = q           -> p_F (world) (forward kinematics; F a frame_id)
+// and, in frame_functions.hpp, FramePose, FrameOrientationError and FrameVelocity.
 // Cost per call: value = one RBD pass at T; J^a = one analytical derivative sweep; J^c = one RBD
 // pass at Dual<T, nin> (nin + 1 times the arithmetic of a value).
 //
@@ -63,12 +64,33 @@ void unseed(const VecN<Dual<T, N>, M>& yd, VecN<T, M>& y, Eigen::Matrix<T, M, N>
   }
 }
 
+/// True when F declares `static constexpr bool generated_fallback = true` (no generated code;
+/// the Generated tag runs AutoDiff for it).
+template <class F>
+inline constexpr bool generated_fallback_v = requires {
+  requires F::generated_fallback;
+};
+}  // namespace detail
+
+/// The provider that serves tag Tag for function F: Tag itself, except that Generated runs
+/// AutoDiff for a function that has no generated code and declares `generated_fallback`
+/// (FramePose, FrameOrientationError, FrameVelocity: frame_functions.hpp). So one tag serves a
+/// whole problem; ForwardDynamics, InverseDynamics and FramePosition without their generated
+/// header are still a compile error under Generated.
+template <class Tag, class F>
+using ProviderOf =
+    std::conditional_t<std::is_same_v<Tag, Generated> && !GeneratedCode<F>::available &&
+                           detail::generated_fallback_v<F>,
+                       AutoDiff, Tag>;
+
+namespace detail {
 /// y = F(x) and J = d y / d x at scalar T from provider Tag, with workspace ws (the one place
 /// where the provider tag is dispatched). AutoDiff: one pass of Dual<T, F::nin> through
 /// F::value; Analytical: F::analytical. Called through Bound::value_and_jacobian.
-template <class F, class Tag, class T, class W>
+template <class F, class Tag0, class T, class W>
 void provider_value_and_jacobian(W& ws, const VecN<T, F::nin>& x, VecN<T, F::nout>& y,
                                  Eigen::Matrix<T, F::nout, F::nin>& J) {
+  using Tag = ProviderOf<Tag0, F>;
   if constexpr (std::is_same_v<Tag, Analytical>) {
     F::analytical(ws, x, y, J);
   } else if constexpr (std::is_same_v<Tag, Generated>) {
@@ -95,8 +117,9 @@ using ValueWorkspace = RbdWorkspace<typename F::Robot, Scalars<T>>;
 
 /// The workspace value_and_jacobian<F, Tag, T> needs: Analytical, a Data and (for the dynamics)
 /// a DerivativeData at T; AutoDiff, a Data at Dual<T, F::nin>; Generated, nothing (its
-/// temporaries are the generated function's locals, on the stack).
-template <class F, class Tag, class T = double>
+/// temporaries are the generated function's locals, on the stack; a function that falls back to
+/// AutoDiff, AutoDiff's).
+template <class F, class Tag0, class T = double, class Tag = ProviderOf<Tag0, F>>
 using JacobianWorkspace = std::conditional_t<
     std::is_same_v<Tag, Generated>, RbdWorkspace<typename F::Robot, Scalars<>>,
     std::conditional_t<
@@ -216,10 +239,16 @@ struct FramePosition {
     y = frame_placement<R>(d, F).p;
   }
 
-  /// y and J^a = d y / d q from compute_frame_position_derivative, in one pass.
+  /// y and J^a = d y / d q from compute_frame_position_derivative, in one pass; or from
+  /// ws.pose_cache (frame_functions.hpp) when ws has one at scalar T that holds this frame at
+  /// bitwise the same q (the last analytical FramePose).
   template <class T, class W>
   static void analytical(W& ws, const VecN<T, nin>& x, VecN<T, nout>& y,
                          Eigen::Matrix<T, nout, nin>& J) {
+    if constexpr (requires { ws.pose_cache; })
+      if constexpr (std::is_same_v<T, typename decltype(ws.pose_cache)::Scalar>)
+        if (ws.pose_cache.lookup(F, x, y, J))
+          return;
     auto& d = ws.template data<T>();
     compute_frame_position_derivative<R>(d, x, F, J);
     y = d.oMf[F].p;
