@@ -73,61 +73,86 @@ void to_dense(const Qp& q, Dense& d) {
   d.uba.template segment<NGN>(c) = q.terminal.ug;
 }
 
-/// KKT residuals of (x, lam_x, lam_a) for the dense QP d (double), relative to their scales:
-/// stationarity H x + g + lam_x + A' lam_a = 0; bounds; a positive multiplier only at an upper
-/// bound, a negative one only at a lower bound (complementarity: min(|lam|, distance)).
+/// KKT residuals of (x, lam_x, lam_a) (flat layout) for the OcpQp q (double), computed stage by
+/// stage here, relative to their scales: stationarity H x + g + lam_x + A' lam_a = 0 with the rows
+/// dyn_k = x_{k+1} - A_k x_k - B_k u_k and gen_k = C_k x_k + D_k u_k of problem.hpp; bounds; a
+/// positive multiplier only at an upper bound, a negative one only at a lower one
+/// (complementarity: min(|lam|, distance), an infinite distance for a wrong sign).
 struct Kkt {
-  double dual = 0, primal = 0, comp = 0, dscale = 1, pscale = 1, objective = 0;
+  double dual = 0, primal = 0, comp = 0, dscale = 1, pscale = 1;
 };
-template <class Dense, class X, class LX, class LA>
-Kkt kkt(const Dense& d, const X& xs, const LX& lxs, const LA& las) {
-  constexpr int NV = decltype(d.g)::RowsAtCompileTime;
-  constexpr int NA = decltype(d.lba)::RowsAtCompileTime;
-  static Eigen::Matrix<double, NV, 1> x, lx, hx, at;
-  static Eigen::Matrix<double, NA, 1> la, z;
-  x = xs.template cast<double>();
-  lx = lxs.template cast<double>();
-  la = las.template cast<double>();
+template <class Qp, class V, class W>
+Kkt kkt(const Qp& q, const V& x, const V& lx, const W& la) {
+  constexpr int N = Qp::horizon, NX = Qp::nx, NU = Qp::nu, NG = Qp::ng, NGN = Qp::ngn;
+  using VX = Eigen::Matrix<double, NX, 1>;
+  using VU = Eigen::Matrix<double, NU, 1>;
   Kkt k;
-  double hmax = 0, gmax = 0, amax = 0, xmax = 0, zmax = 0;
-  for (int i = 0; i < NV; ++i) {
-    double s = 0;
-    for (int j = 0; j < NV; ++j)
-      s += d.H(i, j) * x[j];
-    hx[i] = s;
-  }
-  for (int j = 0; j < NA; ++j) {
-    double s = 0;
-    for (int i = 0; i < NV; ++i)
-      s += d.A(j, i) * x[i];
-    z[j] = s;
-    zmax = std::max(zmax, std::fabs(s));
-  }
-  for (int i = 0; i < NV; ++i) {
-    double s = lx[i];
-    for (int j = 0; j < NA; ++j)
-      s += d.A(j, i) * la[j];
-    at[i] = s;
-    k.dual = std::max(k.dual, std::fabs(hx[i] + d.g[i] + s));
-    hmax = std::max(hmax, std::fabs(hx[i]));
-    gmax = std::max(gmax, std::fabs(d.g[i]));
-    amax = std::max(amax, std::fabs(s));
-    xmax = std::max(xmax, std::fabs(x[i]));
-    k.objective += x[i] * (0.5 * hx[i] + d.g[i]);
-  }
-  k.dscale = 1 + std::max({hmax, gmax, amax});
-  k.pscale = 1 + std::max(xmax, zmax);
+  double hmax = 0, gmax = 0, amax = 0, xmax = x.cwiseAbs().maxCoeff(), zmax = 0;
   auto check = [&](double zi, double l, double u, double m) {
     k.primal = std::max(k.primal, std::max(l - zi, zi - u));
     if (m > 0)
-      k.comp = std::max(k.comp, std::min(m, std::fabs(u - zi)));  // u = inf: m itself
+      k.comp = std::max(k.comp, std::min(m, std::fabs(u - zi)));
     else if (m < 0)
       k.comp = std::max(k.comp, std::min(-m, std::fabs(zi - l)));
   };
-  for (int i = 0; i < NV; ++i)
-    check(x[i], d.lbx[i], d.ubx[i], lx[i]);
-  for (int j = 0; j < NA; ++j)
-    check(z[j], d.lba[j], d.uba[j], la[j]);
+  // per variable: H x, g and lam_x + A' lam_a, accumulated stage by stage
+  auto add = [&](double hx, double g, double a) {
+    k.dual = std::max(k.dual, std::fabs(hx + g + a));
+    hmax = std::max(hmax, std::fabs(hx));
+    gmax = std::max(gmax, std::fabs(g));
+    amax = std::max(amax, std::fabs(a));
+  };
+  VX prev_dyn = VX::Zero();  // lam of dyn_{k-1} (its +x_k term)
+  for (int k_ = 0; k_ < N; ++k_) {
+    const auto& s = q.stage[std::size_t(k_)];
+    const int o = Qp::state_offset(k_), ou = Qp::input_offset(k_), on = Qp::state_offset(k_ + 1);
+    const int r = Qp::dynamics_offset(k_), c = Qp::constraint_offset(k_);
+    const VX xk = x.template segment<NX>(o), xn = x.template segment<NX>(on);
+    const VU uk = x.template segment<NU>(ou);
+    const VX ld = la.template segment<NX>(r);
+    const Eigen::Matrix<double, NG, 1> lg = la.template segment<NG>(c);
+    const VX hx = s.Q * xk + s.S.transpose() * uk;
+    const VU hu = s.S * xk + s.R * uk;
+    const VX ax =
+        lx.template segment<NX>(o) + prev_dyn - s.A.transpose() * ld + s.C.transpose() * lg;
+    const VU au = lx.template segment<NU>(ou) - s.B.transpose() * ld + s.D.transpose() * lg;
+    for (int i = 0; i < NX; ++i) {
+      add(hx[i], s.q[i], ax[i]);
+      check(xk[i], s.lbx[i], s.ubx[i], lx[o + i]);
+    }
+    for (int i = 0; i < NU; ++i) {
+      add(hu[i], s.r[i], au[i]);
+      check(uk[i], s.lbu[i], s.ubu[i], lx[ou + i]);
+    }
+    const VX dyn = xn - s.A * xk - s.B * uk;
+    for (int i = 0; i < NX; ++i) {
+      check(dyn[i], s.b[i], s.b[i], ld[i]);
+      zmax = std::max(zmax, std::fabs(dyn[i]));
+    }
+    const Eigen::Matrix<double, NG, 1> g = s.C * xk + s.D * uk;
+    for (int i = 0; i < NG; ++i) {
+      check(g[i], s.lg[i], s.ug[i], lg[i]);
+      zmax = std::max(zmax, std::fabs(g[i]));
+    }
+    prev_dyn = ld;
+  }
+  const auto& t = q.terminal;
+  const int o = Qp::state_offset(N), c = Qp::constraint_offset(N);
+  const VX xN = x.template segment<NX>(o);
+  const Eigen::Matrix<double, NGN, 1> lg = la.template segment<NGN>(c);
+  const VX hx = t.Q * xN;
+  const VX ax = lx.template segment<NX>(o) + prev_dyn + t.C.transpose() * lg;
+  for (int i = 0; i < NX; ++i) {
+    add(hx[i], t.q[i], ax[i]);
+    check(xN[i], t.lbx[i], t.ubx[i], lx[o + i]);
+  }
+  const Eigen::Matrix<double, NGN, 1> g = t.C * xN;
+  for (int i = 0; i < NGN; ++i) {
+    check(g[i], t.lg[i], t.ug[i], lg[i]);
+    zmax = std::max(zmax, std::fabs(g[i]));
+  }
+  k.dscale = 1 + std::max({hmax, gmax, amax});
+  k.pscale = 1 + std::max(xmax, zmax);
   return k;
 }
 
@@ -145,19 +170,23 @@ inline bool seed_selected(std::uint64_t seed) {
 /// solver in double and the KKT check. Prints one line per size (worst figures and seeds).
 /// Sizes with nv above kDenseMax are checked by the KKT conditions alone (strictly convex: they
 /// certify the unique minimiser): a dense reference of their size costs ~3.5 GB of compiler
-/// memory at -O3 (fixed-size 434 x 434 products) and seconds per solve.
-inline constexpr int kDenseMax = 120;
+/// memory at -O3 (fixed-size 434 x 434 products), more than Eigen's fixed-size object limit, and
+/// seconds per solve.
+inline constexpr int kDenseMax = 100;
 
+/// (noinline: each size is called once, and GCC would inline them all into the test's body, one
+/// function whose compile time grows faster than its size)
 template <class S, int N, int NX, int NU, int NG, int NGN>
-void check_size(std::uint64_t seed0, int count, const char* isa) {
+[[gnu::noinline]] void check_size(std::uint64_t seed0, int count, const char* isa) {
   using Qd = arbor::qp::OcpQp<double, N, NX, NU, NG, NGN>;
   using Qs = arbor::qp::OcpQp<S, N, NX, NU, NG, NGN>;
   constexpr int NV = Qd::nv, NA = Qd::na;
   static Qd qd;
   static Qs qs;
   constexpr bool with_dense = NV <= kDenseMax;
-  static arbor::qp::DenseQpProblem<double, NV, NA> dp;  // (also the KKT check's data)
-  static arbor::qp::DenseQpSolver<double, with_dense ? NV : 1, with_dense ? NA : 1> dense;
+  constexpr int DV = with_dense ? NV : 1, DA = with_dense ? NA : 1;
+  static arbor::qp::DenseQpProblem<double, DV, DA> dp;
+  static arbor::qp::DenseQpSolver<double, DV, DA> dense;
   static arbor::qp::OcpQpSolver<Qs> solver;
   constexpr bool single = sizeof(S) == 4;
   // tolerances: the solver's own (relative 1e-8 / 1e-4) with margin; the point against the
@@ -171,7 +200,8 @@ void check_size(std::uint64_t seed0, int count, const char* isa) {
       continue;
     random_problem(qd, seed);
     cast_problem<S>(qd, qs);
-    to_dense(qd, dp);
+    if constexpr (with_dense)
+      to_dense(qd, dp);
     QpStatus su, st, sdu = QpStatus::accepted, sd = QpStatus::solved;
     {
       arbor::test::NoAllocScope guard;
@@ -200,13 +230,16 @@ void check_size(std::uint64_t seed0, int count, const char* isa) {
     x = solver.x().template cast<double>();
     lx = solver.lam_x().template cast<double>();
     la = solver.lam_a().template cast<double>();
-    const Kkt k = kkt(dp, x, lx, la);
+    const Kkt k = kkt(qd, x, lx, la);
     const double e = std::max({k.dual / k.dscale, k.primal / k.pscale, k.comp / k.pscale});
     EXPECT_LE(e, tk) << "KKT of the OCP solution, seed " << seed << ": dual " << k.dual
                      << " primal " << k.primal << " comp " << k.comp;
     double dx = 0;
     if constexpr (with_dense) {
-      const Kkt kd = kkt(dp, dense.x(), dense.lam_x(), dense.lam_a());
+      static Eigen::Matrix<double, NV, 1> xd, lxd;
+      static Eigen::Matrix<double, NA, 1> lad;
+      xd = dense.x(), lxd = dense.lam_x(), lad = dense.lam_a();
+      const Kkt kd = kkt(qd, xd, lxd, lad);
       EXPECT_LE(kd.dual, 1e-7 * kd.dscale) << "dense reference, seed " << seed;
       dx = (x - dense.x()).cwiseAbs().maxCoeff() / (1 + dense.x().cwiseAbs().maxCoeff());
       EXPECT_LE(dx, tx) << "OCP vs dense solution, seed " << seed;
