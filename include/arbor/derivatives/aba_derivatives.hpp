@@ -170,6 +170,13 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
     if constexpr (fused)
       d.Ycrb[i] = dd.oYcrb[i];
   });
+  if (d.payload.active) {  // the payload's terms at ddq = 0 on its body
+    const int b = d.payload.body;
+    deriv_forward_payload(d, dd);
+    d.f[b] = dd.of[b];
+    if constexpr (fused)
+      d.Ycrb[b] = dd.oYcrb[b];
+  }
   // nle from the composite forces; fused: also the world composite inertias (data.Ycrb), their
   // joint columns P = Ycrb S (deriv.dP, reused by the derivative pass) and M.
   static_for_reverse_flat<R::nb, flat>([&](auto I) {
@@ -218,6 +225,9 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
     if constexpr (!WorldInertia<R, i, Scalar>::massless)
       dd.of[i] += dd.oYcrb[i] * d.a[i];
   });
+  // a payload on a body without mass of its own (skipped above): oYcrb holds the payload alone
+  if (d.payload.active && body_massless<R>(d.payload.body))
+    dd.of[d.payload.body] += dd.oYcrb[d.payload.body] * d.a[d.payload.body];
   static_for_reverse_flat<R::nb, flat>(
       [&](auto I) { deriv_backward_body<R, decltype(I)::value, false, Scalar, fused>(d, dd); });
   minus_minv_times_derivatives(d, dd);

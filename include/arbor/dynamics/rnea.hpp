@@ -5,6 +5,7 @@
 #include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/payload.hpp"
 
 namespace arbor {
 
@@ -57,6 +58,14 @@ ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     d.a[i] = ai;
     d.f[i] = fi;
   });
+  // A payload: its force Yp a + v x* Yp v on its body (outside the unrolled passes).
+  if (d.payload.active) {
+    const int b = d.payload.body;
+    const Inertia<Scalar>& Yp = d.payload.Y;
+    d.f[b] += Yp * d.a[b];
+    if constexpr (HasV)
+      d.f[b] += spatial::cross(d.v[b], Yp * d.v[b]);
+  }
   // Backward pass: joint torques, forces to the parents.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
