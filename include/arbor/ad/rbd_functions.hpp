@@ -75,6 +75,15 @@ void provider_value_and_jacobian(W& ws, const VecN<T, F::nin>& x, VecN<T, F::nou
     static_assert(GeneratedCode<F>::available,
                   "no generated code for this function: generate the robot's AD header "
                   "(CMake arbor_add_robot_ad) and include it before this call");
+    // a payload set on the workspace (it holds the analytical routines' Data): the generated code
+    // knows only the robot's constant inertias, so the analytical routines answer
+    if constexpr (W::template holds_data<T> &&
+                  (!F::needs_derivative_data || W::template holds_derivatives<T>)) {
+      if (ws.template data<T>().payload.active) {
+        F::analytical(ws, x, y, J);
+        return;
+      }
+    }
     (void)ws;
     GeneratedCode<F>::jacobian(x.data(), y.data(), J.data());
   } else {
