@@ -297,9 +297,10 @@ ARBOR_INLINE void deriv_forward_acceleration(Data<R, Scalar>& d, DerivativeData<
 }
 
 /// A payload's terms in the world-frame forward pass, added to its body's after the pass: the
-/// world inertia Yp (composite start), its rate, momentum Yp v and force Yp a + v x* Yp v.
+/// world inertia Yp (composite start), its rate, momentum Yp v and force Yp a + v x* Yp v. Out of
+/// line: the plain path keeps the inlining budget it had without the feature.
 template <class R, class Scalar>
-ARBOR_INLINE void deriv_forward_payload(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
+ARBOR_NOINLINE void deriv_forward_payload(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
   const int b = d.payload.body;
   const Inertia<Scalar> Yp = payload_world(d);
   const Force<Scalar> hp = sx::imul(Yp, dd.ov[b]);

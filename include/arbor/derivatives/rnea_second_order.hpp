@@ -98,9 +98,9 @@ ARBOR_INLINE void so_forward_body(Data<R, Scalar>& d, SecondOrderData<R, Scalar>
 }
 
 /// A payload's terms of the subtree sums, added to its body's after the forward pass (the same
-/// expressions as so_forward_body's with the payload's world inertia).
+/// expressions as so_forward_body's with the payload's world inertia). Out of line.
 template <class R, class Scalar>
-ARBOR_INLINE void so_forward_payload(Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s) {
+ARBOR_NOINLINE void so_forward_payload(Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s) {
   const int b = d.payload.body;
   const Inertia<Scalar> I = payload_world(d);
   const Motion<Scalar>& vk = s.ov[b];

@@ -49,6 +49,13 @@ ARBOR_INLINE void aba_pass2(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau)
   });
 }
 
+/// The payload's bias force v x* Yp v added to its body's (aba's pass 1), out of line.
+template <class R, class Scalar>
+ARBOR_NOINLINE void aba_payload_bias(Data<R, Scalar>& d) {
+  const int b = d.payload.body;
+  d.pA[b] += spatial::cross(d.v[b], d.payload.Y * d.v[b]);
+}
+
 /// aba_pass2 with the payload, out of line (called only when one is set).
 template <class R, class Scalar, class T>
 ARBOR_NOINLINE void aba_pass2_payload(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau) {
@@ -89,11 +96,9 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     if (fext)  // a run-time test: if constexpr here costs 1-4 % more (GCC 12 inlining)
       d.pA[i] -= (*fext)[i];
   });
-  // A payload: its bias force v x* Yp v on its body.
-  if (d.payload.active) {
-    const int b = d.payload.body;
-    d.pA[b] += spatial::cross(d.v[b], d.payload.Y * d.v[b]);
-  }
+  // A payload: its bias force v x* Yp v on its body (out of line).
+  if (d.payload.active)
+    aba_payload_bias(d);
   // Pass 2: articulated inertias and bias forces, leaves to root; with a payload, its second
   // instantiation (aba_pass2), out of line: the plain path keeps the inlining budget it had
   // without the feature.

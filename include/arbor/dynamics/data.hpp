@@ -47,17 +47,14 @@ constexpr const char* to_string(ReferenceFrame rf) {
 }
 
 /// A payload attached to an operational frame at run time (dynamics/payload.hpp: set_payload,
-/// clear_payload): the values as given, and its spatial inertia in the frame's body frame, which
-/// the inertia-dependent algorithms add to that body's constant inertia. Inactive by default.
+/// clear_payload): its spatial inertia in the frame's body frame, which the inertia-dependent
+/// algorithms add to that body's constant inertia. Inactive by default.
 template <class Scalar>
 struct Payload {
   bool active = false;  ///< set by set_payload on a moving body; the algorithms test only this
   int frame = -1;       ///< operational frame it is attached to
   int body = -1;        ///< the frame's body (-1: the fixed base)
-  Scalar mass{};        ///< mass [kg]
-  Vec3<Scalar> com = Vec3<Scalar>::Zero();      ///< centre of mass, in the frame [m]
-  Mat3<Scalar> inertia = Mat3<Scalar>::Zero();  ///< rotational inertia about com, frame axes
-  Inertia<Scalar> Y = Inertia<Scalar>::Zero();  ///< spatial inertia in the body frame
+  Inertia<Scalar> Y = Inertia<Scalar>::Zero();  ///< spatial inertia in the body frame (Y.m: mass)
 };
 
 /// External forces on robot R, one per body, each in its body frame.

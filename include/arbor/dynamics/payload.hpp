@@ -45,9 +45,6 @@ bool set_payload(Data<R, Scalar>& d, int frame, const std::type_identity_t<Scala
   const model::Frame& f = R::frames[frame];
   p.frame = frame;
   p.body = f.body;
-  p.mass = mass;
-  p.com = com;
-  p.inertia = Ic;
   if (f.body < 0)
     return true;  // on the fixed base: no dynamic effect
   // the frame's placement in its body: c_b = R c + t, Ic_b = R Ic R^T
