@@ -5,12 +5,13 @@
 //
 // The robot's body inertias stay compile-time constants (the algorithms specialise on their
 // zeros); the payload is one run-time spatial inertia in the frame's body frame, held in
-// Data::payload. The algorithms add its terms for that one body outside their unrolled per-body
-// loops (rnea, crba, the derivative and second-order forward passes: a patch of the body's
-// entries between two passes), or, where the body's inertia enters in the middle of a sweep (the
-// articulated inertias of aba and minverse), through a second instantiation of that sweep chosen
-// by one run-time test. With no payload set, each algorithm runs the code it ran before plus that
-// one test (docs/api.md, "Payloads": instruction counts).
+// Data::payload. Each algorithm tests payload.active once and calls the payload's terms out of
+// line (ARBOR_NOINLINE, so that the plain path keeps the compiler's inlining budget; crba's, one
+// inertia sum, inline): rnea, crba and the derivative and second-order forward passes patch the
+// body's entries between two unrolled passes; aba and minverse, where the body's inertia enters in the middle of their
+// backward sweep (the articulated inertias), call a second instantiation of that sweep. With no
+// payload set, each algorithm runs the code it ran before plus that one test (docs/api.md,
+// section 8: instruction counts).
 #pragma once
 
 #include <type_traits>
