@@ -70,6 +70,14 @@ void contracted_hessian(const Bound<F, W>& f, const VecN<T, F::nin>& x,
                   "no generated Hessian for this function: generate the robot's AD code with "
                   "HESSIANS (CMake arbor_add_robot_ad) and include <robots/NAME_ad_hessian.hpp> "
                   "before this call");
+    // a payload set on a SecondOrderWorkspace: the generated code knows only the robot's
+    // constant inertias, so the analytical second-order routines answer
+    if constexpr (requires { f.ws->template second_order<T>(); }) {
+      if (f.ws->template data<T>().payload.active) {
+        contracted_hessian<SecondOrder>(f, x, lambda, y, H);
+        return;
+      }
+    }
     GeneratedHessian<F>::hessian(x.data(), lambda.data(), y.data(), H.data());
   } else if constexpr (std::is_same_v<Tag, SecondOrder>) {
     using R = typename F::Robot;

@@ -84,6 +84,17 @@ using ProviderOf =
                        AutoDiff, Tag>;
 
 namespace detail {
+
+/// Whether workspace W holds the analytical routines' storage at scalar T (a Data, and a
+/// DerivativeData when Deriv), which the Generated provider falls back to while a payload is set.
+template <class W, class T, bool Deriv>
+constexpr bool can_fall_back() {
+  if constexpr (requires { W::template holds_data<T>; })
+    return W::template holds_data<T> && (!Deriv || W::template holds_derivatives<T>);
+  else
+    return false;
+}
+
 /// y = F(x) and J = d y / d x at scalar T from provider Tag, with workspace ws (the one place
 /// where the provider tag is dispatched). AutoDiff: one pass of Dual<T, F::nin> through
 /// F::value; Analytical: F::analytical. Called through Bound::value_and_jacobian.
@@ -97,6 +108,14 @@ void provider_value_and_jacobian(W& ws, const VecN<T, F::nin>& x, VecN<T, F::nou
     static_assert(GeneratedCode<F>::available,
                   "no generated code for this function: generate the robot's AD header "
                   "(CMake arbor_add_robot_ad) and include it before this call");
+    // a payload set on the workspace (it holds the analytical routines' Data): the generated code
+    // knows only the robot's constant inertias, so the analytical routines answer
+    if constexpr (can_fall_back<W, T, F::needs_derivative_data>()) {
+      if (ws.template data<T>().payload.active) {
+        F::analytical(ws, x, y, J);
+        return;
+      }
+    }
     (void)ws;
     GeneratedCode<F>::jacobian(x.data(), y.data(), J.data());
   } else {

@@ -9,6 +9,7 @@
 
 #include "arbor/derivatives/derivative_data.hpp"
 #include "arbor/dynamics/data.hpp"
+#include "arbor/dynamics/payload.hpp"
 
 namespace arbor::ad {
 
@@ -65,6 +66,12 @@ struct RbdWorkspace<R, Scalars<Ds...>, Scalars<Gs...>> {
   [[no_unique_address]] std::tuple<DerivativeData<R, Gs>...>
       deriv_;  ///< one DerivativeData per scalar of Gs
 
+  /// Whether it holds a Data, a DerivativeData of scalar type T.
+  template <class T>
+  static constexpr bool holds_data = detail::contains<T, Ds...>;
+  template <class T>
+  static constexpr bool holds_derivatives = detail::contains<T, Gs...>;
+
   /// The Data of scalar type T.
   template <class T>
   Data<R, T>& data() {
@@ -82,6 +89,31 @@ struct RbdWorkspace<R, Scalars<Ds...>, Scalars<Gs...>> {
     return std::get<DerivativeData<R, T>>(deriv_);
   }
 };
+
+/// Sets the payload (set_payload, dynamics/payload.hpp) on every Data of ws, at each one's scalar
+/// type (AD scalars as constants: the payload is not differentiated). The function objects then
+/// evaluate and differentiate the robot with the payload under the Analytical, AutoDiff and
+/// SecondOrder providers; Generated code has the robot's constant inertias folded in, so a
+/// Generated call on a workspace that holds a Data at its scalar (and a DerivativeData, for the
+/// dynamics) runs the analytical routines while a payload is set (rbd_functions.hpp). Returns
+/// false (payload cleared) for a bad frame or a negative mass, and when ws holds no Data at all.
+template <class R, class... Ds, class... Gs, class T>
+bool set_payload(RbdWorkspace<R, Scalars<Ds...>, Scalars<Gs...>>& ws, int frame, const T& mass,
+                 const std::type_identity_t<Vec3<T>>& com,
+                 const std::type_identity_t<Mat3<T>>& Ic) {
+  bool ok = sizeof...(Ds) > 0;
+  ((ok = arbor::set_payload<R, Ds>(ws.template data<Ds>(), frame, Ds(mass),
+                                   com.template cast<Ds>().eval(), Ic.template cast<Ds>().eval()) &&
+         ok),
+   ...);
+  return ok;
+}
+
+/// Removes the payload from every Data of ws.
+template <class R, class... Ds, class... Gs>
+void clear_payload(RbdWorkspace<R, Scalars<Ds...>, Scalars<Gs...>>& ws) {
+  (arbor::clear_payload<R, Ds>(ws.template data<Ds>()), ...);
+}
 
 /// The workspace that serves every call of each of the workspaces Ws (same robot).
 template <class... Ws>

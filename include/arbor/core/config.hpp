@@ -7,6 +7,7 @@
 #define ARBOR_VERSION_PATCH 0
 
 /// Force-inline hint used on small hot functions of the unrolled recursions.
+/// ARBOR_NOINLINE: never inlined (a rarely taken path kept out of its caller's inlining budget).
 /// ARBOR_FLATTEN (a function, or a lambda after its parameter list): every call inside it is
 /// inlined, whatever the compiler's inlining budget of the translation unit (static_for_flat).
 /// Defining ARBOR_FLATTEN empty before any arbor header (e.g. -DARBOR_FLATTEN=) turns this off:
@@ -14,11 +15,13 @@
 /// (the hosted unit tests do this; benchmarks and firmware keep it).
 #if defined(__GNUC__) || defined(__clang__)
 #define ARBOR_INLINE inline __attribute__((always_inline))
+#define ARBOR_NOINLINE __attribute__((noinline))
 #ifndef ARBOR_FLATTEN
 #define ARBOR_FLATTEN __attribute__((flatten))
 #endif
 #else
 #define ARBOR_INLINE inline
+#define ARBOR_NOINLINE
 #ifndef ARBOR_FLATTEN
 #define ARBOR_FLATTEN
 #endif

@@ -148,6 +148,26 @@ ARBOR_INLINE void minus_minv_times_derivatives(Data<R, Scalar>& d, DerivativeDat
   }
 }
 
+/// The payload's terms of aba_derivatives' first pass (at ddq = 0) on its body, with their copies
+/// in data.f and (Fused) data.Ycrb. Out of line (called only with a payload).
+template <bool Fused, class R, class Scalar>
+ARBOR_NOINLINE void aba_deriv_payload(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
+  const int b = d.payload.body;
+  deriv_forward_payload(d, dd);
+  d.f[b] = dd.of[b];
+  if constexpr (Fused)
+    d.Ycrb[b] = dd.oYcrb[b];
+}
+
+/// The fix-up's inertial force of the payload on a body without mass of its own (whose term the
+/// fix-up skips at compile time; its oYcrb holds the payload alone). Out of line.
+template <class R, class Scalar>
+ARBOR_NOINLINE void aba_deriv_payload_fixup(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
+  const int b = d.payload.body;
+  if (body_massless<R>(b))
+    dd.of[b] += dd.oYcrb[b] * d.a[b];
+}
+
 /// aba_derivatives at (q, v, tau): see the file comment.
 template <class R, bool HasFext, class Scalar, class Q, class V, class T>
 ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd,
@@ -170,6 +190,8 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
     if constexpr (fused)
       d.Ycrb[i] = dd.oYcrb[i];
   });
+  if (d.payload.active)  // the payload's terms at ddq = 0 on its body
+    aba_deriv_payload<fused>(d, dd);
   // nle from the composite forces; fused: also the world composite inertias (data.Ycrb), their
   // joint columns P = Ycrb S (deriv.dP, reused by the derivative pass) and M.
   static_for_reverse_flat<R::nb, flat>([&](auto I) {
@@ -218,6 +240,9 @@ ARBOR_INLINE void aba_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sca
     if constexpr (!WorldInertia<R, i, Scalar>::massless)
       dd.of[i] += dd.oYcrb[i] * d.a[i];
   });
+  // a payload on a body without mass of its own (skipped above): oYcrb holds the payload alone
+  if (d.payload.active)
+    aba_deriv_payload_fixup(d, dd);
   static_for_reverse_flat<R::nb, flat>(
       [&](auto I) { deriv_backward_body<R, decltype(I)::value, false, Scalar, fused>(d, dd); });
   minus_minv_times_derivatives(d, dd);

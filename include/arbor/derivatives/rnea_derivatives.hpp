@@ -37,6 +37,7 @@
 #include "arbor/dynamics/jacobian.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/minverse.hpp"
+#include "arbor/dynamics/payload.hpp"
 #include "arbor/dynamics/rnea.hpp"
 #include "arbor/spatial/sx.hpp"
 
@@ -295,6 +296,21 @@ ARBOR_INLINE void deriv_forward_acceleration(Data<R, Scalar>& d, DerivativeData<
     dd.of[i] += sx::imul(dd.oYcrb[i], dd.oa[i]);
 }
 
+/// A payload's terms in the world-frame forward pass, added to its body's after the pass: the
+/// world inertia Yp (composite start), its rate, momentum Yp v and force Yp a + v x* Yp v. Out of
+/// line: the plain path keeps the inlining budget it had without the feature.
+template <class R, class Scalar>
+ARBOR_NOINLINE void deriv_forward_payload(Data<R, Scalar>& d, DerivativeData<R, Scalar>& dd) {
+  const int b = d.payload.body;
+  const Inertia<Scalar> Yp = payload_world(d);
+  const Force<Scalar> hp = sx::imul(Yp, dd.ov[b]);
+  sx::add_to(dd.oYcrb[b], Yp);
+  sx::add_to(dd.oYdot[b], sx::rate(Yp, dd.ov[b]));
+  sx::add_to(dd.oh[b], hp);
+  sx::add_to(dd.of[b], sx::fcross(dd.ov[b], hp));
+  sx::add_to(dd.of[b], sx::imul(Yp, dd.oa[b]));
+}
+
 /// Backward pass of the derivative sweep for body i: tau_i, the columns P, Q, G, H of joint i,
 /// the rows and columns of the derivative matrices over the subtree of i, and the composite sums
 /// handed to the parent. Fused (aba_derivatives' fused sweep): the composite inertia is already
@@ -473,6 +489,8 @@ ARBOR_INLINE void rnea_derivatives_impl(Data<R, Scalar>& d, DerivativeData<R, Sc
     deriv_forward_velocity<R, i, HasFext>(d, dd, v, fext);
     deriv_forward_acceleration<R, i>(d, dd, v, a, g);
   });
+  if (d.payload.active)
+    deriv_forward_payload(d, dd);
   static_for_reverse_flat<R::nb, flat>(
       [&](auto I) { deriv_backward_body<R, decltype(I)::value, WithM>(d, dd); });
 }

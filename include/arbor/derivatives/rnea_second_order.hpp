@@ -97,6 +97,24 @@ ARBOR_INLINE void so_forward_body(Data<R, Scalar>& d, SecondOrderData<R, Scalar>
   }
 }
 
+/// A payload's terms of the subtree sums, added to its body's after the forward pass (the same
+/// expressions as so_forward_body's with the payload's world inertia). Out of line.
+template <class R, class Scalar>
+ARBOR_NOINLINE void so_forward_payload(Data<R, Scalar>& d, SecondOrderData<R, Scalar>& s) {
+  const int b = d.payload.body;
+  const Inertia<Scalar> I = payload_world(d);
+  const Motion<Scalar>& vk = s.ov[b];
+  const Motion<Scalar>& mk = s.omu[b];
+  const Force<Scalar> h = I * vk, L = I * mk;
+  s.Y[b] += I;
+  s.h[b] += h;
+  s.L[b] += L;
+  s.F[b] += I * s.oa[b] + spatial::cross(vk, h);
+  s.Yd[b] += sx::rate(I, vk);
+  s.Ydm[b] += sx::rate(I, mk);
+  s.N[b] += spatial::cross(vk, L) - spatial::cross(mk, h) - I * spatial::cross(vk, mk);
+}
+
 /// Writes the 6-vector x into column j of a RowBlock.
 template <class Blk, class Scalar>
 ARBOR_INLINE void so_store(Blk& blk, int j, const Force<Scalar>& x) {
@@ -252,6 +270,8 @@ ARBOR_INLINE void rnea_second_order_impl(Data<R, Scalar>& d, SecondOrderData<R, 
   s.hessian.setZero();
   static_for<R::nb>(
       [&](auto I) { so_forward_body<R, decltype(I)::value, Placed>(d, s, v, a, lambda, g); });
+  if (d.payload.active)
+    so_forward_payload(d, s);
   static_for_reverse<R::nb>([&](auto I) { so_backward_body<R, decltype(I)::value>(d, s); });
 }
 

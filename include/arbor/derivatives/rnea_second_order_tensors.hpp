@@ -243,6 +243,8 @@ void rnea_second_order_tensors(Data<R, Scalar>& data, SecondOrderData<R, Scalar>
   static_for<R::nb>([&](auto K) {
     detail::so_forward_body<R, decltype(K)::value, false>(data, so, v, a, zero, g);
   });
+  if (data.payload.active)
+    detail::so_forward_payload(data, so);
   static_for_reverse<R::nb>(
       [&](auto K) { detail::so_backward_body<R, decltype(K)::value>(data, so); });
   static_for<R::nb>([&](auto K) { detail::tens_cache_body<R, decltype(K)::value>(so, tensors); });

@@ -5,11 +5,62 @@
 #include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/payload.hpp"
 #include "arbor/dynamics/rnea.hpp"
 
 namespace arbor {
 
 namespace detail {
+
+/// The ABA's second pass: articulated inertias and bias forces, leaves to root. WithPayload: the
+/// payload's inertia added to its body's articulated inertia.
+template <class R, bool WithPayload, class Scalar, class T>
+ARBOR_INLINE void aba_pass2(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau) {
+  constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
+  static_for_reverse_flat<R::nb, flat>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    using B = spatial::BodyOps<R, i, Scalar>;
+    using X = sx::Body<B, Scalar>;
+    if constexpr (sx::last_child<R>(i) < 0)
+      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
+    if constexpr (WithPayload) {
+      if (i == d.payload.body)
+        detail::add_payload_art(d.Yaba[i], d.payload.Y);
+    }
+    X::art_S(d.Yaba[i], d.U[i]);
+    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
+    d.Dinv[i] = Dinv;
+    const Scalar ui = Scalar(tau[i]) - X::ST(d.pA[i]);
+    d.u[i] = ui;
+    if constexpr (B::parent >= 0) {
+      // pa = pA + Ya c + U Dinv u with Ya = Y - U Dinv U^T: Ya c = Y c - U Dinv (U . c)
+      const Motion<Scalar>& c = d.a[i];
+      Force<Scalar> pa = X::template art_times<X::c_nz>(d.Yaba[i], c);
+      const Scalar g = Dinv * (ui - X::template dot_masked<X::c_nz>(d.U[i], c));
+      for (int r = 0; r < 3; ++r) {
+        pa.f[r] += d.pA[i].f[r] + d.U[i].f[r] * g;
+        pa.n[r] += d.pA[i].n[r] + d.U[i].n[r] * g;
+      }
+      using BP = spatial::BodyOps<R, B::parent, Scalar>;
+      using Init = std::conditional_t<sx::last_child<R>(B::parent) == i, BP, void>;
+      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[B::parent]);
+      X::add_to_parent(d.joint[i], pa, d.pA[B::parent]);
+    }
+  });
+}
+
+/// The payload's bias force v x* Yp v added to its body's (aba's pass 1), out of line.
+template <class R, class Scalar>
+ARBOR_NOINLINE void aba_payload_bias(Data<R, Scalar>& d) {
+  const int b = d.payload.body;
+  d.pA[b] += spatial::cross(d.v[b], d.payload.Y * d.v[b]);
+}
+
+/// aba_pass2 with the payload, out of line (called only when one is set).
+template <class R, class Scalar, class T>
+ARBOR_NOINLINE void aba_pass2_payload(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau) {
+  aba_pass2<R, true>(d, tau);
+}
 
 /// The ABA's three passes, with external forces when fext is not null.
 template <class R, class Scalar, class Q, class V, class T>
@@ -45,33 +96,16 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     if (fext)  // a run-time test: if constexpr here costs 1-4 % more (GCC 12 inlining)
       d.pA[i] -= (*fext)[i];
   });
-  // Pass 2: articulated inertias and bias forces, leaves to root.
-  static_for_reverse_flat<R::nb, flat>([&](auto I) {
-    constexpr int i = decltype(I)::value;
-    using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
-    if constexpr (sx::last_child<R>(i) < 0)
-      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
-    X::art_S(d.Yaba[i], d.U[i]);
-    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
-    d.Dinv[i] = Dinv;
-    const Scalar ui = Scalar(tau[i]) - X::ST(d.pA[i]);
-    d.u[i] = ui;
-    if constexpr (B::parent >= 0) {
-      // pa = pA + Ya c + U Dinv u with Ya = Y - U Dinv U^T: Ya c = Y c - U Dinv (U . c)
-      const Motion<Scalar>& c = d.a[i];
-      Force<Scalar> pa = X::template art_times<X::c_nz>(d.Yaba[i], c);
-      const Scalar g = Dinv * (ui - X::template dot_masked<X::c_nz>(d.U[i], c));
-      for (int r = 0; r < 3; ++r) {
-        pa.f[r] += d.pA[i].f[r] + d.U[i].f[r] * g;
-        pa.n[r] += d.pA[i].n[r] + d.U[i].n[r] * g;
-      }
-      using BP = spatial::BodyOps<R, B::parent, Scalar>;
-      using Init = std::conditional_t<sx::last_child<R>(B::parent) == i, BP, void>;
-      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[B::parent]);
-      X::add_to_parent(d.joint[i], pa, d.pA[B::parent]);
-    }
-  });
+  // A payload: its bias force v x* Yp v on its body (out of line).
+  if (d.payload.active)
+    aba_payload_bias(d);
+  // Pass 2: articulated inertias and bias forces, leaves to root; with a payload, its second
+  // instantiation (aba_pass2), out of line: the plain path keeps the inlining budget it had
+  // without the feature.
+  if (d.payload.active)
+    aba_pass2_payload<R>(d, tau);
+  else
+    aba_pass2<R, false>(d, tau);
   // Pass 3: accelerations, root to leaves (the base accelerates by -g).
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;

@@ -4,6 +4,7 @@
 #include "arbor/core/static_for.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/payload.hpp"
 #include "arbor/model/topology.hpp"
 
 namespace arbor {
@@ -77,6 +78,8 @@ ARBOR_INLINE void crba_columns(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q
     constexpr int i = decltype(I)::value;
     d.Ycrb[i] = spatial::BodyOps<R, i, Scalar>::inertia();
   });
+  if (d.payload.active)
+    d.Ycrb[d.payload.body] += d.payload.Y;
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
@@ -103,6 +106,8 @@ ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q)
     if constexpr (model::root_tree_size<R>(i) >= kCrbaBlockFrom)
       d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
   });
+  if (d.payload.active)
+    d.Ycrb[d.payload.body] += d.payload.Y;
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;

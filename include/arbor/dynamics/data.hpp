@@ -46,6 +46,17 @@ constexpr const char* to_string(ReferenceFrame rf) {
   return "unknown";
 }
 
+/// A payload attached to an operational frame at run time (dynamics/payload.hpp: set_payload,
+/// clear_payload): its spatial inertia in the frame's body frame, which the inertia-dependent
+/// algorithms add to that body's constant inertia. Inactive by default.
+template <class Scalar>
+struct Payload {
+  bool active = false;  ///< set by set_payload on a moving body; the algorithms test only this
+  int frame = -1;       ///< operational frame it is attached to
+  int body = -1;        ///< the frame's body (-1: the fixed base)
+  Inertia<Scalar> Y = Inertia<Scalar>::Zero();  ///< spatial inertia in the body frame (Y.m: mass)
+};
+
 /// External forces on robot R, one per body, each in its body frame.
 template <class R, class Scalar>
 using ForceArray = std::array<Force<Scalar>, std::size_t(R::nb)>;
@@ -86,6 +97,7 @@ struct Data {
   std::array<Scalar, nb> u;         ///< tau - S^T pA (aba)
   std::array<RowBlock, nb> Fminv;   ///< per-body 6 x nv work blocks of crba and minverse
   Eigen::LLT<Matrix> llt;           ///< Cholesky factor of M (cholesky_factor)
+  Payload<Scalar> payload;          ///< run-time payload (set_payload); inactive by default
 };
 
 }  // namespace arbor

@@ -8,4 +8,5 @@
 #include "arbor/dynamics/jacobian.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/minverse.hpp"
+#include "arbor/dynamics/payload.hpp"
 #include "arbor/dynamics/rnea.hpp"

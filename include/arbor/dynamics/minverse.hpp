@@ -14,20 +14,15 @@
 
 namespace arbor {
 
-/// M(q)^-1 (full symmetric) in data.Minv; returns it.
-template <Robot R, class Scalar, class Q>
-const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
-                                                 const Eigen::MatrixBase<Q>& q) {
-  static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
+namespace detail {
+
+/// minverse's backward pass: columns [i, last] (the subtree of i) of the bias-force blocks, the
+/// articulated inertias, and rows i of M^-1 over the subtree. WithPayload: the payload's inertia
+/// added to its body's articulated inertia.
+template <class R, bool WithPayload, class Scalar>
+ARBOR_INLINE void minverse_backward(Data<R, Scalar>& d) {
   constexpr int n = R::nv;
   constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
-  detail::joint_states(d, q);
-  static_for<R::nb>([&](auto I) {
-    constexpr int i = decltype(I)::value;
-    constexpr int last = model::subtree_last<R>(i);
-    d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
-  });
-  // Backward pass: columns [i, last] (the subtree of i) of the bias-force blocks.
   static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
@@ -36,6 +31,10 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
     using X = detail::sx::Body<B, Scalar>;
     if constexpr (detail::sx::last_child<R>(i) < 0)
       d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
+    if constexpr (WithPayload) {
+      if (i == d.payload.body)
+        detail::add_payload_art(d.Yaba[i], d.payload.Y);
+    }
     X::art_S(d.Yaba[i], d.U[i]);
     const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
     d.Dinv[i] = Dinv;
@@ -58,6 +57,36 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
       X::add_rows_to_parent(d.joint[i], f, t, d.Fminv[p].template middleCols<L>(i));
     }
   });
+}
+
+/// minverse_backward with the payload, out of line (called only when one is set).
+template <class R, class Scalar>
+ARBOR_NOINLINE void minverse_backward_payload(Data<R, Scalar>& d) {
+  minverse_backward<R, true>(d);
+}
+
+}  // namespace detail
+
+/// M(q)^-1 (full symmetric) in data.Minv; returns it.
+template <Robot R, class Scalar, class Q>
+const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
+                                                 const Eigen::MatrixBase<Q>& q) {
+  static_assert(Q::RowsAtCompileTime == R::nq, "q has the wrong size");
+  constexpr int n = R::nv;
+  constexpr bool flat = std::is_floating_point_v<Scalar>;  // per-body passes flattened
+  detail::joint_states(d, q);
+  static_for<R::nb>([&](auto I) {
+    constexpr int i = decltype(I)::value;
+    constexpr int last = model::subtree_last<R>(i);
+    d.Fminv[i].template middleCols<last - i + 1>(i).setZero();
+  });
+  // Backward pass: columns [i, last] (the subtree of i) of the bias-force blocks; with a payload,
+  // its second instantiation (detail::minverse_backward), out of line: the plain path keeps the
+  // inlining budget it had without the feature.
+  if (d.payload.active)
+    detail::minverse_backward_payload<R>(d);
+  else
+    detail::minverse_backward<R, false>(d);
   // Forward pass: rows i, columns [i, n) of M^-1 and of the acceleration blocks.
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;

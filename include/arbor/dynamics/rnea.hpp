@@ -5,6 +5,7 @@
 #include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
+#include "arbor/dynamics/payload.hpp"
 
 namespace arbor {
 
@@ -15,6 +16,17 @@ inline Vec3<Scalar> default_gravity() {
 }
 
 namespace detail {
+
+/// A payload's force Yp a + v x* Yp v (HasV) added to its body's, between rnea's passes; out of
+/// line, so that the plain path keeps the inlining budget it had without the feature.
+template <bool HasV, class R, class Scalar>
+ARBOR_NOINLINE void rnea_payload(Data<R, Scalar>& d) {
+  const int b = d.payload.body;
+  const Inertia<Scalar>& Yp = d.payload.Y;
+  d.f[b] += Yp * d.a[b];
+  if constexpr (HasV)
+    d.f[b] += spatial::cross(d.v[b], Yp * d.v[b]);
+}
 
 /// One RNEA with compile-time switches for the terms present.
 template <class R, bool HasV, bool HasA, bool HasFext, class Scalar, class Q, class V, class A>
@@ -57,6 +69,9 @@ ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     d.a[i] = ai;
     d.f[i] = fi;
   });
+  // A payload: its force on its body (out of line, outside the unrolled passes).
+  if (d.payload.active)
+    rnea_payload<HasV>(d);
   // Backward pass: joint torques, forces to the parents.
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
