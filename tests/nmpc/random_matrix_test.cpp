@@ -1,7 +1,8 @@
 // The NMPC on random robots (tests/dynamics/random_robot.hpp: chains and branches, every joint
 // kind) with the end-effector task of random_task.hpp, at the sizes of the size matrix (nv = 1,
-// 3, 7 (nx = 14, nu = 7: the QP of issue 35's -march=native crash), 12), built at the tests'
-// flags and at -O3 -march=native (tests/nmpc/CMakeLists.txt), in two parts (ARBOR_MATRIX_PART):
+// 7 (nx = 14, nu = 7: the QP of issue 35's -march=native crash), 12), built at the tests' flags
+// and, for the crash sizes in double, at -O3 -march=native (tests/nmpc/CMakeLists.txt), in three
+// parts (ARBOR_MATRIX_PART, below):
 //   - the Gauss-Newton SCQP and the exact-Hessian SQP, from the same guess, converge to the same
 //     optimum (same local minimiser: the plans agree to the tolerance of the scalar);
 //   - a real-time-iteration closed loop against a plant simulated here (arbor's aba, RK4 at a
@@ -165,11 +166,11 @@ template <class R, int N, class T>
               std::is_same_v<T, float> ? "float " : "double", n, failed, worst_qd, excess);
 }
 
-/// The hard tunnel and the same jump: the measured state is then outside the tunnel, so the QP
-/// of that sample is infeasible (the constraint at stage 0 is out of reach of any input). The
-/// Gauss-Newton QP is convex by construction: in double and in float it must say `infeasible`,
-/// never `non_convex` (issue 35: the float QP said non_convex after one iteration, from a
-/// factorization that round-off broke). Returns the QP status of the jump sample.
+/// The hard tunnel and a jump of the measured state 2 cm or more outside it (one joint moved):
+/// the Gauss-Newton QP is convex by construction, so in double and in float it must be solved
+/// (the controller steers back from stage 1 on) or proved infeasible, never `non_convex` or
+/// `stalled` (issue 35: a float QP said non_convex after one iteration, from a factorization
+/// that round-off broke, then stalled). Returns the QP status of the jump sample.
 template <class R, int N, class T>
 [[gnu::noinline]] arbor::qp::QpStatus hard_tunnel_jump_status() {
   using Task = TaskOf<R, N>;
@@ -183,28 +184,48 @@ template <class R, int N, class T>
   x.template head<n>() = Task::q_start();
   EXPECT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::prepared);
   c.settings().max_iter = 100;
-  arbor::test::NoAllocScope guard;
-  (void)c.solve(x.template cast<T>());
-  for (int s = 0; s < 5; ++s) {
-    c.shift();
-    EXPECT_EQ(c.prepare(), NmpcStatus::prepared);
-    EXPECT_EQ(c.feedback(x.template cast<T>()), NmpcStatus::step_taken) << "sample " << s;
-    x = plant_step<R>(x, c.control().template cast<double>(), Task::h);
+  NmpcStatus sp[6], sf[6];
+  {
+    arbor::test::NoAllocScope guard;
+    (void)c.solve(x.template cast<T>());
+    for (int s = 0; s < 5; ++s) {
+      c.shift();
+      sp[s] = c.prepare();
+      sf[s] = c.feedback(x.template cast<T>());
+      x = plant_step<R>(x, c.control().template cast<double>(), Task::h);
+    }
   }
-  x[0] += 0.5;
-  c.shift();
-  EXPECT_EQ(c.prepare(), NmpcStatus::prepared);
-  const NmpcStatus sf = c.feedback(x.template cast<T>());
-  EXPECT_EQ(sf, NmpcStatus::qp_failed) << "the tunnel is out of reach at stage 0";
+  for (int s = 0; s < 5; ++s) {
+    EXPECT_EQ(sp[s], NmpcStatus::prepared) << "sample " << s;
+    EXPECT_EQ(sf[s], NmpcStatus::step_taken) << "sample " << s;
+  }
+  // the jump: the first joint (then the next ones) moved until the end effector is 2 cm outside
+  Eigen::Matrix<double, nx, 1> xj = x;
+  for (int j = 0; j < n && Task::tunnel_excess(xj.template head<n>().eval()) < 0.02; ++j) {
+    xj = x;
+    for (double a = 0.5; a <= 3.0 && Task::tunnel_excess(xj.template head<n>().eval()) < 0.02;
+         a += 0.5)
+      xj[j] = x[j] + a;
+  }
+  const double excess = Task::tunnel_excess(xj.template head<n>().eval());
+  EXPECT_GT(excess, 0.02) << "no jump of one joint leaves the tunnel";
+  {
+    arbor::test::NoAllocScope guard;
+    c.shift();
+    sp[5] = c.prepare();
+    sf[5] = c.feedback(xj.template cast<T>());
+  }
+  EXPECT_EQ(sp[5], NmpcStatus::prepared);
+  EXPECT_TRUE(sf[5] == NmpcStatus::step_taken || sf[5] == NmpcStatus::qp_failed) << sf[5];
   EXPECT_TRUE(c.control().allFinite());
-  std::printf("  [%s] nv=%d hard tunnel, state out of it: %s, QP %s after %d iterations\n",
-              std::is_same_v<T, float> ? "float " : "double", n, arbor::nmpc::to_string(sf),
-              arbor::qp::to_string(c.info().qp_status), c.info().qp_iterations);
+  std::printf("  [%s] nv=%d hard tunnel, state %.3f m out of it: %s, QP %s after %d iterations\n",
+              std::is_same_v<T, float> ? "float " : "double", n, excess,
+              arbor::nmpc::to_string(sf[5]), arbor::qp::to_string(c.info().qp_status),
+              c.info().qp_iterations);
   return c.info().qp_status;
 }
 
 using R1 = arbor::test::RandomRobot<11, 1>;
-using R3 = arbor::test::RandomRobot<13, 3>;
 using R7 = arbor::test::RandomRobot<17, 7>;
 using R12 = arbor::test::RandomRobot<19, 12>;
 
@@ -212,28 +233,33 @@ TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
   arbor::test::print_isa();
 }
 
-// Two units (compile memory: each controller type is ~0.3 GB of compiler memory at -O1):
-// ARBOR_MATRIX_PART 1, the exact-Hessian comparisons; 2, the closed loops.
+// Three units (compile memory: each controller type is ~0.6 GB of compiler memory and ~1 min of
+// compiler time at -O1), ARBOR_MATRIX_PART: 1, double at the crash sizes (nx = 14, nu = 7, N = 20:
+// GN vs exact Hessian, the hard tunnel out of reach); 2, the same in float; 3, RTI closed loops
+// with a state jump on 1 and 12 DoF in double and 7 DoF in float.
 #if ARBOR_MATRIX_PART == 1
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgree) {
-  gauss_newton_matches_exact<R3, 9, double>();
   gauss_newton_matches_exact<R7, 20, double>();
 }
+TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
+  const auto st = hard_tunnel_jump_status<R7, 20, double>();
+  EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
+}
+#elif ARBOR_MATRIX_PART == 2
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgreeInFloat) {
   gauss_newton_matches_exact<R7, 20, float>();
+}
+TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasibleInFloat) {
+  const auto st = hard_tunnel_jump_status<R7, 20, float>();
+  EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
 }
 #else
 TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJump) {
   rti_closed_loop<R1, 6, double>();
-  rti_closed_loop<R7, 20, double>();
   rti_closed_loop<R12, 5, double>();
 }
 TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJumpInFloat) {
   rti_closed_loop<R7, 20, float>();
-}
-TEST(NmpcRandomMatrix, HardTunnelOutOfReachIsInfeasibleInDoubleAndFloat) {
-  EXPECT_EQ((hard_tunnel_jump_status<R7, 20, double>()), arbor::qp::QpStatus::infeasible);
-  EXPECT_EQ((hard_tunnel_jump_status<R7, 20, float>()), arbor::qp::QpStatus::infeasible);
 }
 #endif
 }  // namespace

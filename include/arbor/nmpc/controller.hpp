@@ -526,7 +526,12 @@ class Nmpc {
     info_.qp_status = st;
     info_.qp_iterations += solver_.info().iterations;
     ++info_.iterations;
-    if (st != qp::QpStatus::solved || !solver_.x().allFinite() || !lam_bounds().allFinite() ||
+    // a stall (or the cap) at the scalar's round-off floor, near the tolerances: the step is
+    // usable (settings.hpp, accept_stalled_qp)
+    const bool usable = st == qp::QpStatus::solved ||
+                        ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
+                         solver_.info().merit <= settings_.accept_stalled_qp);
+    if (!usable || !solver_.x().allFinite() || !lam_bounds().allFinite() ||
         !lam_rows().allFinite()) {
       // The multipliers are the solver's iterate (one copy, no backup): keep its best iterate
       // (iteration limit, stall) as the next warm start, reset anything else (an infeasibility

@@ -85,6 +85,15 @@ struct NmpcSettings {
   /// (before that, qp_failed and the stale plan); >= 1.
   int max_failed_samples = 2;
   FallbackPolicy fallback = FallbackPolicy::relax;  ///< see FallbackPolicy
+  /// A QP that ends `stalled` or at its iteration cap with its largest residual within this many
+  /// tolerances (qp::SolveInfo::merit) still gives the step (the call reports step_taken or
+  /// converged as usual; info().qp_status keeps the QP's own status). Float's default, 100, is a
+  /// relative residual of 1e-2: the round-off floor of a float Riccati solve over tens of
+  /// ill-conditioned stages lies between its 1e-4 tolerance and there (issue 35: a float RTI loop
+  /// after a state jump stalled at merit 2-30 on samples a double loop solved, and replayed its
+  /// stale plan); such a step is as good as the QP can make it in float. Double's default, 0,
+  /// never takes an unsolved QP (its tolerances sit far above its round-off floor).
+  Scalar accept_stalled_qp = Scalar(single ? 100 : 0);
 };
 
 }  // namespace arbor::nmpc

@@ -936,6 +936,7 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettin
   info.dual_residual = du_;
   info.complementarity = co_abs_;
   info.objective = Scalar(0.5) * x.dot(hx_) + g.dot(x);
+  info.merit = merit_of(s);
   int na_ws = 0;
   for (int i = 0; i < nz; ++i)
     na_ws += ws[i] != State::inactive ? 1 : 0;

@@ -65,8 +65,12 @@ struct SolveInfo {
   Scalar dual_residual = 0;      ///< max |grad of the Lagrangian|
   Scalar complementarity = 0;    ///< max min(|lam_i|, distance to the selected bound)
   Scalar objective = 0;          ///< 1/2 x'Hx + g'x at the returned iterate
-  int active_constraints = 0;    ///< size of the final working set (equalities included)
-  int cycling_refusals = 0;      ///< drops refused by the anti-cycling rule (active_set.hpp)
+  /// Largest ratio residual / tolerance (primal, dual, complementarity, each on its scale as the
+  /// termination test) at the returned iterate: <= 1 when solved; how far a stalled or capped
+  /// solve ended from its tolerances (a caller may still use a step that ended near them).
+  Scalar merit = 0;
+  int active_constraints = 0;  ///< size of the final working set (equalities included)
+  int cycling_refusals = 0;    ///< drops refused by the anti-cycling rule (active_set.hpp)
 };
 
 }  // namespace arbor::qp
