@@ -38,7 +38,9 @@ inline void note_allocation() {
 // ---- sanitizer builds (scripts/sanitize.sh) ------------------------------------------------------
 // AddressSanitizer owns malloc and operator new: the allocations are counted by its hook instead
 // of by interposition (the same count: every malloc, calloc, realloc, aligned and C++ allocation).
-#include <sanitizer/allocator_interface.h>
+// (declared here: GCC's libasan exports it, but only clang ships sanitizer/allocator_interface.h)
+extern "C" int __sanitizer_install_malloc_and_free_hooks(
+    void (*malloc_hook)(const volatile void*, std::size_t), void (*free_hook)(const volatile void*));
 namespace {
 void count_hook(const volatile void*, std::size_t) {
   note_allocation();
