@@ -205,7 +205,10 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
     QpStatus su, st, sdu = QpStatus::accepted, sd = QpStatus::solved;
     {
       arbor::test::NoAllocScope guard;
-      su = solver.setup(qs);
+      // a cold start takes one iteration per working-set change: hundreds at N = 20
+      arbor::qp::QpSettings<S> settings;
+      settings.max_iter = 5000;
+      su = solver.setup(qs, settings);
       solver.cold_start();
       st = solver.solve();
       if constexpr (with_dense) {
