@@ -10,8 +10,9 @@
 #   OUT_DIR      where the log and plots go (default $BUILD_DIR/contour)
 #   DEMO=robots  the robot table instead (what the generator made of each robot)
 #   DEMO=scenarios  issue 36's scenarios, one run each (nominal; unknown 0.5 kg payload without
-#                and with the momentum observer; unknown damping and armature; noise, plain and
-#                filtered), their summaries' key lines and scenarios.png side by side
+#                and with the momentum observer; the payload declared to the controller at run
+#                time; unknown damping and armature; noise, plain and filtered), their
+#                summaries' key lines and scenarios.png side by side
 # Extra arguments go to the program (`bash scripts/demo.sh --help` lists them).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -48,9 +49,9 @@ mkdir -p "$out"
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
 if [ "${DEMO:-contour}" = scenarios ]; then
-  names=(nominal payload payload_observer damping_armature noise noise_filtered)
-  args=("" "--mismatch" "--mismatch --observer" "--damping 0.5 --armature 0.05" "--noise 1e-3"
-        "--noise 1e-3 --state-filter 0.3 --backoff 1e-3")
+  names=(nominal payload payload_observer payload_known damping_armature noise noise_filtered)
+  args=("" "--mismatch" "--mismatch --observer" "--known-payload" "--damping 0.5 --armature 0.05"
+        "--noise 1e-3" "--noise 1e-3 --state-filter 0.3 --backoff 1e-3")
   plots=()
   status=0
   for i in "${!names[@]}"; do

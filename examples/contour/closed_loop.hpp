@@ -23,6 +23,7 @@
 #include <random>
 #include <type_traits>
 
+#include "arbor/dynamics/payload.hpp"
 #include "arbor/nmpc/controller.hpp"
 #include "arbor/nmpc/momentum_observer.hpp"
 #include "plant.hpp"
@@ -38,8 +39,11 @@ struct Options {
   bool sqp = false;        ///< paper's mode (full SQP, at most sqp_iter iterations) instead of RTI
   int sqp_iter = 5;        ///< SQP iterations per sample (sqp mode)
   bool mismatch = false;   ///< plant with a 0.5 kg payload at the end effector
-  double noise = 0;        ///< std. dev. of the measurement noise on q [rad] (qd: 10x)
-  std::uint32_t seed = 1;  ///< noise seed
+  /// The controller knows the plant's payload (with mismatch): declared at run time on its
+  /// workspace (ad::set_payload) and on the observer's model, the robot as generated
+  bool known_payload = false;
+  double noise = 0;          ///< std. dev. of the measurement noise on q [rad] (qd: 10x)
+  std::uint32_t seed = 1;    ///< noise seed
   double soft_weight = 100;  ///< slack weight of the soft tunnel (soft builds)
   /// the controller's tunnel is rho - backoff [m]; < 0: the scalar's default (default_backoff)
   double backoff = -1;
@@ -141,15 +145,39 @@ class ContourLoop {
                                                         o.scaled_tunnel || o.sqp),
                              o.qd_margin)),
         ctrl_(problem_),
-        rng_(o.seed) {}
+        rng_(o.seed) {
+    // The controller's model with the plant's payload (a point mass at the end-effector frame)
+    // at run time: its RBD workspace, the observer's model and the plants' copies of the
+    // controller's model (OCP-ID's computed torque, the initial gravity compensation).
+    if (o.known_payload) {
+      const bool ok =
+          arbor::ad::set_payload(ws_, ee_frame, PayloadRobot::payload, arbor::Vec3<double>::Zero(),
+                                 arbor::Mat3<double>::Zero()) &&
+          declare_payload(obs_.data()) && declare_payload(nominal_.nominal) &&
+          declare_payload(payload_.nominal);
+      ARBOR_ASSERT(ok, "the end-effector frame takes a payload");
+      (void)ok;
+    }
+  }
   ContourLoop(const ContourLoop&) = delete;
   ContourLoop& operator=(const ContourLoop&) = delete;
 
   /// Runs the loop against p (not owned; it keeps its own payload and joint properties, and
   /// options().mismatch no longer selects the plant) instead of arbor's plant; nullptr: arbor's.
-  void set_external_plant(ExtPlant* p) { external_ = p; }
+  void set_external_plant(ExtPlant* p) {
+    external_ = p;
+    if constexpr (requires { p->nominal; })
+      if (p && options_.known_payload)
+        (void)declare_payload(p->nominal);
+  }
   /// True when the external plant runs the loop.
   bool external() const { return external_ != nullptr; }
+
+  /// Declares the plant's payload on a Data of the controller's model (known_payload).
+  static bool declare_payload(arbor::Data<Robot, double>& d) {
+    return arbor::set_payload(d, ee_frame, PayloadRobot::payload, arbor::Vec3<double>::Zero(),
+                              arbor::Mat3<double>::Zero());
+  }
 
   /// The back-off the controller runs with: o.backoff, or the scalar's default if it is < 0.
   static double backoff(const Options& o) {
@@ -219,7 +247,7 @@ class ContourLoop {
     set_parameters();
     set_hold(hold_samples_ > 0);
     VecN<double, nu> u0 = VecN<double, nu>::Zero();
-    if constexpr (F == Formulation::fd)  // gravity compensation at q0
+    if constexpr (F == Formulation::fd)  // gravity compensation at q0 (the controller's model)
       u0.head<nq>() = arbor::rnea<Robot>(nominal_.nominal, initial_q(), VecN<double, nq>::Zero(),
                                          VecN<double, nq>::Zero());
     auto st = ctrl_.set_initial_guess(x0.cast<Scalar>(), u0.cast<Scalar>());

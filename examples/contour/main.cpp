@@ -72,6 +72,8 @@ void usage(const char* argv0) {
       "  --plant P         the simulated plant: mujoco (default when built with MuJoCo: its own\n"
       "                    URDF parser and dynamics) or arbor (arbor's aba + RK4 at 1 ms)%s\n"
       "  --mismatch        plant carries 0.5 kg at the end effector (controller: nominal model)\n"
+      "  --known-payload   as --mismatch, the payload declared to the controller at run time\n"
+      "                    (ad::set_payload on its workspace; the generated robot unchanged)\n"
       "  --damping D       MuJoCo plant: joint damping D [N m s/rad] on every joint (default 0;\n"
       "                    unknown to the controller)\n"
       "  --armature A      MuJoCo plant: armature A [kg m^2] on every joint (default 0; unknown)\n"
@@ -230,6 +232,9 @@ int main(int argc, char** argv) {
       urdf = value("a file name");
     } else if (a == "--mismatch") {
       o.mismatch = true;
+    } else if (a == "--known-payload") {
+      o.mismatch = true;
+      o.known_payload = true;
     } else if (a == "--noise") {
       o.noise = std::atof(value("a number"));
     } else if (a == "--seed") {
@@ -316,7 +321,10 @@ int main(int argc, char** argv) {
   std::printf(
       "sizeof controller %zu bytes, RBD workspace %zu bytes; c = %g, back-off %g mm, plant: %s%s\n",
       sizeof(Loop::Controller), sizeof(Loop::W), o.c, 1e3 * Loop::backoff(o),
-      o.mismatch ? "+0.5 kg payload" : "nominal model", o.noise > 0 ? ", measurement noise" : "");
+      !o.mismatch       ? "nominal model"
+      : o.known_payload ? "+0.5 kg payload (known to the controller)"
+                        : "+0.5 kg payload (unknown to the controller)",
+      o.noise > 0 ? ", measurement noise" : "");
   std::printf("plant: %s\n", plant_name.c_str());
   if (o.observer)
     std::printf("momentum observer: gain %g 1/s, updated %s\n", o.observer_gain,
@@ -397,7 +405,9 @@ int main(int argc, char** argv) {
   const double s_final = n ? task.back().x[14] : 0.0;
   std::printf("\nsummary (%s, %s, %s tunnel, %s; plant %s%s)\n", to_string(kForm), kTagName,
               kSoft ? "soft" : "hard", o.sqp ? "SQP mode" : "RTI", plant_name.c_str(),
-              o.mismatch ? ", +0.5 kg payload" : "");
+              !o.mismatch       ? ""
+              : o.known_payload ? ", +0.5 kg payload, known"
+                                : ", +0.5 kg payload");
   std::printf("  %-34s %10s %10s %10s\n", "", "median", "p95", "max");
   auto row = [](const char* name, const std::vector<double>& v, const char* fmt) {
     std::printf("  %-34s ", name);

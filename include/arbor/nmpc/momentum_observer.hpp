@@ -119,6 +119,9 @@ class MomentumObserver {
   const Vv& beta() const { return beta_; }
   /// Whether reset() has succeeded.
   bool started() const { return started_; }
+  /// The observer's model: a payload known to the controller goes here too (set_payload,
+  /// dynamics/payload.hpp), or the observer reports it as a disturbance. Set it before reset().
+  Data<R, Scalar>& data() { return data_; }
 
   /// p = M(q) qd and beta = C(q, qd)' qd - g(q), exactly, from one rnea_derivatives sweep at
   /// (q, qd, 0) (see the top of this file).
