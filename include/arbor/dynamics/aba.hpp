@@ -12,6 +12,26 @@ namespace arbor {
 
 namespace detail {
 
+/// Body i's step of the leaves-to-root articulated-inertia passes (aba's pass 2, minverse's
+/// backward pass) starts here: Yaba[i] complete (a leaf's own inertia, else its children have
+/// added theirs; WithPayload: the payload's inertia added on its body), U[i] = Yaba[i] S and
+/// Dinv[i] = 1 / (S' U[i]) stored; returns Dinv[i].
+template <class R, int i, bool WithPayload, class Scalar>
+ARBOR_INLINE Scalar art_body_start(Data<R, Scalar>& d) {
+  using B = spatial::BodyOps<R, i, Scalar>;
+  using X = sx::Body<B, Scalar>;
+  if constexpr (sx::last_child<R>(i) < 0)
+    d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child)
+  if constexpr (WithPayload) {
+    if (i == d.payload.body)
+      add_payload_art(d.Yaba[i], d.payload.Y);
+  }
+  X::art_S(d.Yaba[i], d.U[i]);
+  const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
+  d.Dinv[i] = Dinv;
+  return Dinv;
+}
+
 /// The ABA's second pass: articulated inertias and bias forces, leaves to root. WithPayload: the
 /// payload's inertia added to its body's articulated inertia.
 template <class R, bool WithPayload, class Scalar, class T>
@@ -21,15 +41,7 @@ ARBOR_INLINE void aba_pass2(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau)
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
     using X = sx::Body<B, Scalar>;
-    if constexpr (sx::last_child<R>(i) < 0)
-      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
-    if constexpr (WithPayload) {
-      if (i == d.payload.body)
-        detail::add_payload_art(d.Yaba[i], d.payload.Y);
-    }
-    X::art_S(d.Yaba[i], d.U[i]);
-    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
-    d.Dinv[i] = Dinv;
+    const Scalar Dinv = art_body_start<R, i, WithPayload>(d);
     const Scalar ui = Scalar(tau[i]) - X::ST(d.pA[i]);
     d.u[i] = ui;
     if constexpr (B::parent >= 0) {

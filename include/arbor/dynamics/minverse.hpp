@@ -29,15 +29,7 @@ ARBOR_INLINE void minverse_backward(Data<R, Scalar>& d) {
     constexpr int L = model::subtree_last<R>(i) - i + 1;
     using Row = Eigen::Matrix<Scalar, 1, L>;
     using X = detail::sx::Body<B, Scalar>;
-    if constexpr (detail::sx::last_child<R>(i) < 0)
-      d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child below)
-    if constexpr (WithPayload) {
-      if (i == d.payload.body)
-        detail::add_payload_art(d.Yaba[i], d.payload.Y);
-    }
-    X::art_S(d.Yaba[i], d.U[i]);
-    const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
-    d.Dinv[i] = Dinv;
+    const Scalar Dinv = art_body_start<R, i, WithPayload>(d);
     auto blk = d.Fminv[i].template middleCols<L>(i);
     Row mrow = X::ST_rows(blk) * Scalar(-Dinv);
     mrow[0] = Dinv;  // column i: the unit torque at i itself (no bias force from below)
