@@ -33,12 +33,20 @@ namespace qp_matrix {
 
 using arbor::qp::QpStatus;
 
-/// The equivalent dense QP (the flat layout of problem.hpp), written here from the stages.
+/// The equivalent dense QP (the flat layout of problem.hpp), written here from the stages, in the
+/// leading nv variables and na rows of a dense problem of fixed size (one dense solver type serves
+/// every size, compiled once): the remaining variables are free and decoupled (H = I, g = 0, no
+/// bounds: zero at the optimum), the remaining rows zero and unbounded (never active).
 template <class Qp, class Dense>
 void to_dense(const Qp& q, Dense& d) {
   constexpr int N = Qp::horizon, NX = Qp::nx, NU = Qp::nu, NG = Qp::ng, NGN = Qp::ngn;
-  d.H.setZero();
+  d.H.setIdentity();
+  d.g.setZero();
   d.A.setZero();
+  d.lbx.setConstant(-kInf);
+  d.ubx.setConstant(kInf);
+  d.lba.setConstant(-kInf);
+  d.uba.setConstant(kInf);
   for (int k = 0; k < N; ++k) {
     const auto& s = q.stage[std::size_t(k)];
     const int o = Qp::state_offset(k), ou = Qp::input_offset(k), on = Qp::state_offset(k + 1);
@@ -168,11 +176,26 @@ inline bool seed_selected(std::uint64_t seed) {
 
 /// One size: `count` random problems from seed0, the OCP solver in scalar S against the dense
 /// solver in double and the KKT check. Prints one line per size (worst figures and seeds).
-/// Sizes with nv above kDenseMax are checked by the KKT conditions alone (strictly convex: they
-/// certify the unique minimiser): a dense reference of their size costs ~3.5 GB of compiler
-/// memory at -O3 (fixed-size 434 x 434 products), more than Eigen's fixed-size object limit, and
-/// seconds per solve.
-inline constexpr int kDenseMax = 100;
+/// The dense reference is one type, DenseQpSolver<double, kDenseMax, kDenseRows>, for every size
+/// (to_dense pads): one instantiation of the dense solver per unit instead of one per size (at -O1
+/// the per-size dense solvers made most of the unit's 7 min of compiler time and 5.7 GB).
+/// Sizes with nv above kDenseMax or na above kDenseRows are checked by the KKT conditions alone
+/// (strictly convex: they certify the unique minimiser): a dense reference of the crash size
+/// (nv = 434) costs ~3.5 GB of compiler memory at -O3, more than Eigen's fixed-size object limit,
+/// and seconds per solve.
+inline constexpr int kDenseMax = 56;
+inline constexpr int kDenseRows = 48;
+using DenseProblem = arbor::qp::DenseQpProblem<double, kDenseMax, kDenseRows>;
+using DenseSolver = arbor::qp::DenseQpSolver<double, kDenseMax, kDenseRows>;
+/// The one dense problem and solver of a unit (static storage: ~100 KB on the targets).
+inline DenseProblem& dense_problem() {
+  static DenseProblem p;
+  return p;
+}
+inline DenseSolver& dense_solver() {
+  static DenseSolver s;
+  return s;
+}
 
 /// (noinline: each size is called once, and GCC would inline them all into the test's body, one
 /// function whose compile time grows faster than its size)
@@ -183,10 +206,9 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
   constexpr int NV = Qd::nv, NA = Qd::na;
   static Qd qd;
   static Qs qs;
-  constexpr bool with_dense = NV <= kDenseMax;
-  constexpr int DV = with_dense ? NV : 1, DA = with_dense ? NA : 1;
-  static arbor::qp::DenseQpProblem<double, DV, DA> dp;
-  static arbor::qp::DenseQpSolver<double, DV, DA> dense;
+  constexpr bool with_dense = NV <= kDenseMax && NA <= kDenseRows;
+  DenseProblem& dp = dense_problem();
+  DenseSolver& dense = dense_solver();
   static arbor::qp::OcpQpSolver<Qs> solver;
   constexpr bool single = sizeof(S) == 4;
   // tolerances: the solver's own (relative 1e-8 / 1e-4) with margin; the point against the
@@ -241,10 +263,16 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
     if constexpr (with_dense) {
       static Eigen::Matrix<double, NV, 1> xd, lxd;
       static Eigen::Matrix<double, NA, 1> lad;
-      xd = dense.x(), lxd = dense.lam_x(), lad = dense.lam_a();
+      xd = dense.x().template head<NV>();
+      lxd = dense.lam_x().template head<NV>();
+      lad = dense.lam_a().template head<NA>();
       const Kkt kd = kkt(qd, xd, lxd, lad);
       EXPECT_LE(kd.dual, 1e-7 * kd.dscale) << "dense reference, seed " << seed;
-      dx = (x - dense.x()).cwiseAbs().maxCoeff() / (1 + dense.x().cwiseAbs().maxCoeff());
+      if constexpr (NV < kDenseMax) {  // the padding's variables at their free optimum, zero
+        EXPECT_LE(dense.x().template tail<kDenseMax - NV>().cwiseAbs().maxCoeff(), 1e-9)
+            << "dense reference's padding, seed " << seed;
+      }
+      dx = (x - xd).cwiseAbs().maxCoeff() / (1 + xd.cwiseAbs().maxCoeff());
       EXPECT_LE(dx, tx) << "OCP vs dense solution, seed " << seed;
     }
     worst_x = std::max(worst_x, dx);
