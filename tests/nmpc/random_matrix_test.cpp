@@ -37,9 +37,16 @@ using arbor::ocp::HessianKind;
 template <class R, int N>
 using TaskOf = nmpc_test::RandomTask<R, R::nb - 1, N>;
 
-/// GN and exact Hessian from the same guess: both converge, to the same plan.
+/// GN and exact Hessian from the same guess: both converge, to the same optimum (the same cost,
+/// to the scalar's accuracy; the same plan to plan_tol relative to its size: the torques of these
+/// tasks are weakly determined, weight 1e-3, so points that meet the NLP tolerances differ there
+/// by ~1e-5 relative in double). With exact_steps, the exact SQP must take exact-Hessian steps
+/// (fewer Gauss-Newton fallbacks than iterations): else both ran Gauss-Newton and the comparison
+/// shows nothing. (At nv = 7, N = 20 every exact QP is non-convex for the square-root Riccati
+/// recursion, which needs each stage's cost-to-go P_k positive definite, and falls back: issue 35's
+/// finding, left to a later issue.)
 template <class R, int N, class T>
-[[gnu::noinline]] void gauss_newton_matches_exact() {
+[[gnu::noinline]] void gauss_newton_matches_exact(bool exact_steps, double plan_tol) {
   using Task = TaskOf<R, N>;
   constexpr int nx = Task::nx, nu = Task::nu;
   SCOPED_TRACE(::testing::Message() << "nv=" << R::nv << " N=" << N << " scalar="
@@ -70,8 +77,13 @@ template <class R, int N, class T>
       << "GN: " << gn.info().iterations << " iterations, qp " << gn.info().qp_status;
   EXPECT_EQ(se, NmpcStatus::converged)
       << "exact: " << ex.info().iterations << " iterations, qp " << ex.info().qp_status;
-  // Same minimiser: the plans agree to the scalar's accuracy, relative to the plan's size.
-  const double tol = std::is_same_v<T, float> ? 2e-2 : 1e-6;
+  if (exact_steps)
+    EXPECT_LT(ex.info().hessian_fallbacks, ex.info().iterations) << "no exact-Hessian step";
+  // the same optimum: the cost at the converged points (merit: cost + penalty of violations)
+  const double mg = gn.info().merit, me = ex.info().merit;
+  EXPECT_LE(std::abs(mg - me), (std::is_same_v<T, float> ? 1e-3 : 1e-9) * std::abs(mg))
+      << "costs differ: " << mg << " vs " << me;
+  const double tol = plan_tol;
   double dx = 0, du = 0, sx = 1, su = 1;
   for (int k = 0; k <= N; ++k) {
     dx = std::max(dx, double((gn.state(k) - ex.state(k)).cwiseAbs().maxCoeff()));
@@ -85,7 +97,8 @@ template <class R, int N, class T>
   EXPECT_LE(du, tol * su) << "inputs differ";
   arbor::test::log() << "  [" << (std::is_same_v<T, float> ? "float " : "double")
                      << "] nv=" << R::nv << " GN " << gn.info().iterations << " it, exact "
-                     << ex.info().iterations << " it: max |dx| " << dx << ", |du| " << du << "\n";
+                     << ex.info().iterations << " it (" << ex.info().hessian_fallbacks
+                     << " Gauss-Newton fallbacks): max |dx| " << dx << ", |du| " << du << "\n";
 }
 
 /// The plant: x+ = RK4 of [qd, aba(q, qd, tau)] over h in 4 substeps (double).
@@ -228,6 +241,7 @@ template <class R, int N, class T>
 using R1 = arbor::test::RandomRobot<11, 1>;
 using R7 = arbor::test::RandomRobot<17, 7>;
 using R12 = arbor::test::RandomRobot<19, 12>;
+using R3 = arbor::test::RandomRobot<13, 3>;
 
 TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
   arbor::test::print_isa();
@@ -237,11 +251,11 @@ TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
 // compiler time at -O1), ARBOR_MATRIX_PART: 1, double at the crash sizes (nx = 14, nu = 7, N = 20:
 // GN vs exact Hessian, the hard tunnel out of reach); 2, the same in float and the RTI closed loop
 // with a state jump in float (portable: also built for AArch64 (NEON), the Cortex-M7 and the
-// Cortex-M4F (no SIMD), whose 4 MB of RAM hold these controllers); 3, RTI closed loops with a
-// state jump on 1 and 12 DoF in double.
+// Cortex-M4F (no SIMD), whose 4 MB of RAM hold these controllers); 3, GN vs exact-Hessian steps on
+// 1 and 3 DoF and RTI closed loops with a state jump on 1 and 12 DoF in double.
 #if ARBOR_MATRIX_PART == 1
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgree) {
-  gauss_newton_matches_exact<R7, 20, double>();
+  gauss_newton_matches_exact<R7, 20, double>(false, 1e-6);
 }
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
   const auto st = hard_tunnel_jump_status<R7, 20, double>();
@@ -249,7 +263,7 @@ TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
 }
 #elif ARBOR_MATRIX_PART == 2
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgreeInFloat) {
-  gauss_newton_matches_exact<R7, 20, float>();
+  gauss_newton_matches_exact<R7, 20, float>(false, 2e-2);
 }
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasibleInFloat) {
   const auto st = hard_tunnel_jump_status<R7, 20, float>();
@@ -259,6 +273,11 @@ TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJumpInFloat) {
   rti_closed_loop<R7, 20, float>();
 }
 #else
+// Exact-Hessian steps on small robots (1 and 3 DoF, N = 6): GN and exact SQP reach the same optimum.
+TEST(NmpcRandomMatrix, GaussNewtonAndExactNewtonStepsReachTheSameOptimum) {
+  gauss_newton_matches_exact<R1, 6, double>(true, 1e-4);
+  gauss_newton_matches_exact<R3, 6, double>(true, 1e-4);
+}
 TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJump) {
   rti_closed_loop<R1, 6, double>();
   rti_closed_loop<R12, 5, double>();
