@@ -15,8 +15,8 @@
 //                                               NX x NX block of L_k, no extra work)
 // F_k' P_{k+1} F_k is formed as T' T with T = Lxx_{k+1}' F_k (triangular times dense). Per stage
 // in multiply-adds: NX^2 NW / 2 (T) + NW (NW+1) NX / 2 (T' T) + NW^3 / 6 (Cholesky):
-// 3.1 k + 4.8 k + 2.3 k = 10.2 k for NX = 16, NU = 8 (the penalised elimination of
-// ocp_backend.hpp: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
+// 3.1 k + 4.8 k + 2.3 k = 10.2 k for NX = 16, NU = 8 (the penalised block elimination it
+// replaced: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
 // solve_exact(): backward, h_k = f_k + F_k' Lxx_{k+1} (y_{x,k+1} - Lxx_{k+1}' e_k), y_k =
 // L_k^-1 h_k; forward, from dx_0 = L_0^-T y_0: du_k = Luu^-T (y_u - Lxu' dx_k), the costate
 // dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
@@ -24,7 +24,7 @@
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
 // penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
 // gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve
-// ~45 k); with AVX2+FMA and the [A B] products written per column (ocp_backend.hpp,
+// ~45 k); with AVX2+FMA and the [A B] products written per column (ocp_products.hpp,
 // lazy_products) the factorization takes 199 k (OCP-FD) and one solve_exact ~73 k. This is the
 // default backend of OcpQpSolver (ocp_qp_solver.hpp).
 // Exact bounds (exact_bound()): a working bound of an input u_k or of x_0 fixes its variable
@@ -44,7 +44,7 @@
 // k..0 instead (k + 1 stage factorizations); after max_updates updates the next factorization
 // is a full one.
 // Memory (scalars): N NW (NW+1)/2 + NX (NX+1)/2 for the factor (no off-diagonal blocks: ~49 KB
-// less than ocp_backend.hpp at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
+// less than the penalised elimination's at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
 // scratch, [B A]', T' and an unpacked Lxx during a stage's factorization (the transposed copies
 // by kernels::transpose, T' assigned by the product, M_k's upper part not filled where the kernels
 // do not read it).
@@ -60,7 +60,8 @@
 
 #include "arbor/qp/backend.hpp"
 #include "arbor/qp/kernels.hpp"
-#include "arbor/qp/ocp_backend.hpp"
+#include "arbor/qp/ocp_products.hpp"
+#include "arbor/qp/packed_kernels.hpp"
 #include "arbor/qp/problem.hpp"
 
 namespace arbor::qp::detail {
