@@ -9,19 +9,17 @@
 //     quarter of the controller's step), with a large jump of the measured state in the middle
 //     (shoulder +0.5 rad): every control finite, the plant's state finite, and the loop back in
 //     the tunnel at the end; the controller in double and in float (plant in double).
-// Everything runs under the allocation guard.
-#include <gtest/gtest.h>
-
+// Everything runs under the allocation guard (on bare metal: a link without a heap).
 #include <cmath>
-#include <cstdio>
 
-#include "alloc_guard.hpp"
 #include "arbor/dynamics/aba.hpp"
 #include "arbor/nmpc/controller.hpp"
+#include "arbor_test.hpp"
 #include "isa.hpp"
 #include "random_robot.hpp"
 #include "random_task.hpp"
 #include "status_names.hpp"
+#include "test_log.hpp"
 
 namespace arbor::nmpc {
 using ::arbor::test::status_names::operator<<;
@@ -39,9 +37,16 @@ using arbor::ocp::HessianKind;
 template <class R, int N>
 using TaskOf = nmpc_test::RandomTask<R, R::nb - 1, N>;
 
-/// GN and exact Hessian from the same guess: both converge, to the same plan.
+/// GN and exact Hessian from the same guess: both converge, to the same optimum (the same cost,
+/// to the scalar's accuracy; the same plan to plan_tol relative to its size: the torques of these
+/// tasks are weakly determined, weight 1e-3, so points that meet the NLP tolerances differ there
+/// by ~1e-5 relative in double). With exact_steps, the exact SQP must take exact-Hessian steps
+/// (fewer Gauss-Newton fallbacks than iterations): else both ran Gauss-Newton and the comparison
+/// shows nothing. (At nv = 7, N = 20 every exact QP is non-convex for the square-root Riccati
+/// recursion, which needs each stage's cost-to-go P_k positive definite, and falls back: issue 35's
+/// finding, left to a later issue.)
 template <class R, int N, class T>
-[[gnu::noinline]] void gauss_newton_matches_exact() {
+[[gnu::noinline]] void gauss_newton_matches_exact(bool exact_steps, double plan_tol) {
   using Task = TaskOf<R, N>;
   constexpr int nx = Task::nx, nu = Task::nu;
   SCOPED_TRACE(::testing::Message() << "nv=" << R::nv << " N=" << N << " scalar="
@@ -72,8 +77,13 @@ template <class R, int N, class T>
       << "GN: " << gn.info().iterations << " iterations, qp " << gn.info().qp_status;
   EXPECT_EQ(se, NmpcStatus::converged)
       << "exact: " << ex.info().iterations << " iterations, qp " << ex.info().qp_status;
-  // Same minimiser: the plans agree to the scalar's accuracy, relative to the plan's size.
-  const double tol = std::is_same_v<T, float> ? 2e-2 : 1e-6;
+  if (exact_steps)
+    EXPECT_LT(ex.info().hessian_fallbacks, ex.info().iterations) << "no exact-Hessian step";
+  // the same optimum: the cost at the converged points (merit: cost + penalty of violations)
+  const double mg = gn.info().merit, me = ex.info().merit;
+  EXPECT_LE(std::abs(mg - me), (std::is_same_v<T, float> ? 1e-3 : 1e-9) * std::abs(mg))
+      << "costs differ: " << mg << " vs " << me;
+  const double tol = plan_tol;
   double dx = 0, du = 0, sx = 1, su = 1;
   for (int k = 0; k <= N; ++k) {
     dx = std::max(dx, double((gn.state(k) - ex.state(k)).cwiseAbs().maxCoeff()));
@@ -85,9 +95,10 @@ template <class R, int N, class T>
   }
   EXPECT_LE(dx, tol * sx) << "states differ";
   EXPECT_LE(du, tol * su) << "inputs differ";
-  std::printf("  [%s] nv=%d GN %d it, exact %d it: max |dx| %.2e, |du| %.2e\n",
-              std::is_same_v<T, float> ? "float " : "double", R::nv, gn.info().iterations,
-              ex.info().iterations, dx, du);
+  arbor::test::log() << "  [" << (std::is_same_v<T, float> ? "float " : "double")
+                     << "] nv=" << R::nv << " GN " << gn.info().iterations << " it, exact "
+                     << ex.info().iterations << " it (" << ex.info().hessian_fallbacks
+                     << " Gauss-Newton fallbacks): max |dx| " << dx << ", |du| " << du << "\n";
 }
 
 /// The plant: x+ = RK4 of [qd, aba(q, qd, tau)] over h in 4 substeps (double).
@@ -162,8 +173,9 @@ template <class R, int N, class T>
   }
   const double excess = Task::tunnel_excess(x.template head<n>().eval());
   EXPECT_LE(excess, 1e-3) << "not back in the tunnel at the end";
-  std::printf("  [%s] nv=%d RTI: %d failed samples, max |qd| %.3f, tunnel excess at the end %.2e\n",
-              std::is_same_v<T, float> ? "float " : "double", n, failed, worst_qd, excess);
+  arbor::test::log() << "  [" << (std::is_same_v<T, float> ? "float " : "double") << "] nv=" << n
+                     << " RTI: " << failed << " failed samples, max |qd| " << worst_qd
+                     << ", tunnel excess at the end " << excess << "\n";
 }
 
 /// The hard tunnel and a jump of the measured state 2 cm or more outside it (one joint moved):
@@ -218,16 +230,18 @@ template <class R, int N, class T>
   EXPECT_EQ(sp[5], NmpcStatus::prepared);
   EXPECT_TRUE(sf[5] == NmpcStatus::step_taken || sf[5] == NmpcStatus::qp_failed) << sf[5];
   EXPECT_TRUE(c.control().allFinite());
-  std::printf("  [%s] nv=%d hard tunnel, state %.3f m out of it: %s, QP %s after %d iterations\n",
-              std::is_same_v<T, float> ? "float " : "double", n, excess,
-              arbor::nmpc::to_string(sf[5]), arbor::qp::to_string(c.info().qp_status),
-              c.info().qp_iterations);
+  arbor::test::log() << "  [" << (std::is_same_v<T, float> ? "float " : "double") << "] nv=" << n
+                     << " hard tunnel, state " << excess
+                     << " m out of it: " << arbor::nmpc::to_string(sf[5]) << ", QP "
+                     << arbor::qp::to_string(c.info().qp_status) << " after "
+                     << c.info().qp_iterations << " iterations\n";
   return c.info().qp_status;
 }
 
 using R1 = arbor::test::RandomRobot<11, 1>;
 using R7 = arbor::test::RandomRobot<17, 7>;
 using R12 = arbor::test::RandomRobot<19, 12>;
+using R3 = arbor::test::RandomRobot<13, 3>;
 
 TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
   arbor::test::print_isa();
@@ -235,11 +249,13 @@ TEST(NmpcRandomMatrix, PrintsTheInstructionSet) {
 
 // Three units (compile memory: each controller type is ~0.6 GB of compiler memory and ~1 min of
 // compiler time at -O1), ARBOR_MATRIX_PART: 1, double at the crash sizes (nx = 14, nu = 7, N = 20:
-// GN vs exact Hessian, the hard tunnel out of reach); 2, the same in float; 3, RTI closed loops
-// with a state jump on 1 and 12 DoF in double and 7 DoF in float.
+// GN vs exact Hessian, the hard tunnel out of reach); 2, the same in float and the RTI closed loop
+// with a state jump in float (portable: also built for AArch64 (NEON), the Cortex-M7 and the
+// Cortex-M4F (no SIMD), whose 4 MB of RAM hold these controllers); 3, GN vs exact-Hessian steps on
+// 1 and 3 DoF and RTI closed loops with a state jump on 1 and 12 DoF in double.
 #if ARBOR_MATRIX_PART == 1
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgree) {
-  gauss_newton_matches_exact<R7, 20, double>();
+  gauss_newton_matches_exact<R7, 20, double>(false, 1e-6);
 }
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
   const auto st = hard_tunnel_jump_status<R7, 20, double>();
@@ -247,19 +263,24 @@ TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
 }
 #elif ARBOR_MATRIX_PART == 2
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgreeInFloat) {
-  gauss_newton_matches_exact<R7, 20, float>();
+  gauss_newton_matches_exact<R7, 20, float>(false, 2e-2);
 }
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasibleInFloat) {
   const auto st = hard_tunnel_jump_status<R7, 20, float>();
   EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
 }
+TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJumpInFloat) {
+  rti_closed_loop<R7, 20, float>();
+}
 #else
+// Exact-Hessian steps on small robots (1 and 3 DoF, N = 6): GN and exact SQP reach the same optimum.
+TEST(NmpcRandomMatrix, GaussNewtonAndExactNewtonStepsReachTheSameOptimum) {
+  gauss_newton_matches_exact<R1, 6, double>(true, 1e-4);
+  gauss_newton_matches_exact<R3, 6, double>(true, 1e-4);
+}
 TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJump) {
   rti_closed_loop<R1, 6, double>();
   rti_closed_loop<R12, 5, double>();
-}
-TEST(NmpcRandomMatrix, RtiClosedLoopRecoversFromAStateJumpInFloat) {
-  rti_closed_loop<R7, 20, float>();
 }
 #endif
 }  // namespace
