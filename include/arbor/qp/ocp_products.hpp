@@ -32,6 +32,7 @@ template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
 struct OcpProducts {
   using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
   static constexpr int NW = NX + NU;
+  static constexpr int NR = NX + NG;  ///< rows per path stage
   static constexpr int NV = Problem::nv;
   static constexpr int NA = Problem::na;
   using VecV = Eigen::Matrix<Scalar, NV, 1>;
@@ -81,34 +82,25 @@ struct OcpProducts {
       y.template tail<NX>().noalias() = p->terminal.Q * x.template tail<NX>();
   }
 
-  void cons_mul(const VecV& x, VecA& y) const {
+  /// y = A_P x on the rows that are not solved exactly (the path rows; the others keep their
+  /// values): the step's A dx needs no product with the dynamics rows, whose D dx is the e the
+  /// solve was given.
+  void path_mul(const VecV& x, VecA& y) const {
     for (int k = 0; k < N; ++k) {
       const auto& s = p->stage[k];
-      const int o = k * NW, r = k * (NX + NG);
-      const auto xk = x.template segment<NX>(o);
-      const auto uk = x.template segment<NU>(o + NX);
+      const auto xk = x.template segment<NX>(k * NW);
+      const auto uk = x.template segment<NU>(k * NW + NX);
       if constexpr (lazy_products) {
-        Eigen::Matrix<Scalar, NX, 1> ad = x.template segment<NX>(o + NW);
         Eigen::Matrix<Scalar, NG, 1> ag = s.C.col(0) * xk(0);
-        ad -= s.A.col(0) * xk(0);
-        for (int j = 1; j < NX; ++j) {
-          ad -= s.A.col(j) * xk(j);
+        for (int j = 1; j < NX; ++j)
           ag += s.C.col(j) * xk(j);
-        }
         if constexpr (NU > 0) {
-          for (int j = 0; j < NU; ++j) {
-            ad -= s.B.col(j) * uk(j);
+          for (int j = 0; j < NU; ++j)
             ag += s.D.col(j) * uk(j);
-          }
         }
-        y.template segment<NX>(r) = ad;
-        y.template segment<NG>(r + NX) = ag;
+        y.template segment<NG>(k * NR + NX) = ag;
       } else {
-        auto dyn = y.template segment<NX>(r);
-        dyn = x.template segment<NX>(o + NW);
-        dyn.noalias() -= s.A * xk;
-        dyn.noalias() -= s.B * uk;
-        auto gen = y.template segment<NG>(r + NX);
+        auto gen = y.template segment<NG>(k * NR + NX);
         gen.noalias() = s.C * xk;
         gen.noalias() += s.D * uk;
       }
@@ -119,37 +111,77 @@ struct OcpProducts {
       y.template tail<NGN>().noalias() = p->terminal.C * x.template tail<NX>();
   }
 
-  void cons_tmul(const VecA& l, VecV& y) const {
+  /// y = A x: the path and terminal rows (path_mul), then the dynamics rows
+  /// x_{k+1} - A_k x_k - B_k u_k.
+  void cons_mul(const VecV& x, VecA& y) const {
+    path_mul(x, y);
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      const int o = k * NW, r = k * (NX + NG);
+      const auto xk = x.template segment<NX>(o);
+      const auto uk = x.template segment<NU>(o + NX);
+      if constexpr (lazy_products) {
+        Eigen::Matrix<Scalar, NX, 1> ad = x.template segment<NX>(o + NW);
+        for (int j = 0; j < NX; ++j)
+          ad -= s.A.col(j) * xk(j);
+        if constexpr (NU > 0) {
+          for (int j = 0; j < NU; ++j)
+            ad -= s.B.col(j) * uk(j);
+        }
+        y.template segment<NX>(r) = ad;
+      } else {
+        auto dyn = y.template segment<NX>(r);
+        dyn = x.template segment<NX>(o + NW);
+        dyn.noalias() -= s.A * xk;
+        dyn.noalias() -= s.B * uk;
+      }
+    }
+  }
+
+  /// y = A_P' l over the rows that are not solved exactly (the entries of l on the dynamics rows
+  /// are not read).
+  void path_tmul(const VecA& l, VecV& y) const {
+    for (int k = 0; k < N; ++k) {
+      const auto& s = p->stage[k];
+      const auto lg = l.template segment<NG>(k * NR + NX);
+      if constexpr (lazy_products) {
+        for (int i = 0; i < NX; ++i)
+          y(k * NW + i) = s.C.col(i).dot(lg);
+        if constexpr (NU > 0) {
+          for (int i = 0; i < NU; ++i)
+            y(k * NW + NX + i) = s.D.col(i).dot(lg);
+        }
+      } else {
+        y.template segment<NX>(k * NW).noalias() = s.C.transpose() * lg;
+        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose() * lg;
+      }
+    }
     if constexpr (lazy_products)
       y.template tail<NX>().noalias() =
           p->terminal.C.transpose().lazyProduct(l.template tail<NGN>());
     else
       y.template tail<NX>().noalias() = p->terminal.C.transpose() * l.template tail<NGN>();
+  }
+
+  /// y = A' l: the path and terminal rows (path_tmul), then the dynamics rows' terms.
+  void cons_tmul(const VecA& l, VecV& y) const {
+    path_tmul(l, y);
     for (int k = N - 1; k >= 0; --k) {
       const auto& s = p->stage[k];
-      const int o = k * NW, r = k * (NX + NG);
-      const auto ld = l.template segment<NX>(r);
-      const auto lg = l.template segment<NG>(r + NX);
-      y.template segment<NX>(o + NW) += ld;  // x_{k+1} (set by the previous pass)
+      const int o = k * NW;
+      const auto ld = l.template segment<NX>(k * NR);
       if constexpr (lazy_products) {
-        Eigen::Matrix<Scalar, NX, 1> tx;
-        Eigen::Matrix<Scalar, NU, 1> tu;
         for (int i = 0; i < NX; ++i)
-          tx(i) = s.C.col(i).dot(lg) - s.A.col(i).dot(ld);
+          y(o + i) -= s.A.col(i).dot(ld);
         if constexpr (NU > 0) {
           for (int i = 0; i < NU; ++i)
-            tu(i) = s.D.col(i).dot(lg) - s.B.col(i).dot(ld);
+            y(o + NX + i) -= s.B.col(i).dot(ld);
         }
-        y.template segment<NX>(o) = tx;
-        y.template segment<NU>(o + NX) = tu;
       } else {
-        auto yx = y.template segment<NX>(o);
-        auto yu = y.template segment<NU>(o + NX);
-        yx.noalias() = s.C.transpose() * lg;
-        yx.noalias() -= s.A.transpose() * ld;
-        yu.noalias() = s.D.transpose() * lg;
-        yu.noalias() -= s.B.transpose() * ld;
+        y.template segment<NX>(o).noalias() -= s.A.transpose() * ld;
+        y.template segment<NU>(o + NX).noalias() -= s.B.transpose() * ld;
       }
+      y.template segment<NX>(o + NW) += ld;  // x_{k+1}
     }
   }
 

@@ -185,60 +185,6 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     return done;
   }
 
-  /// y = A_P x on the rows that are not solved exactly (the path rows; the others keep their
-  /// values): the step's A dx needs no product with the dynamics rows, whose D dx is the e the
-  /// solve was given.
-  void path_mul(const VecV& x, VecA& y) const {
-    for (int k = 0; k < N; ++k) {
-      const auto& s = p->stage[k];
-      const auto xk = x.template segment<NX>(k * NW);
-      const auto uk = x.template segment<NU>(k * NW + NX);
-      if constexpr (lazy_products) {
-        Eigen::Matrix<Scalar, NG, 1> ag = s.C.col(0) * xk(0);
-        for (int j = 1; j < NX; ++j)
-          ag += s.C.col(j) * xk(j);
-        if constexpr (NU > 0) {
-          for (int j = 0; j < NU; ++j)
-            ag += s.D.col(j) * uk(j);
-        }
-        y.template segment<NG>(k * NR + NX) = ag;
-      } else {
-        auto gen = y.template segment<NG>(k * NR + NX);
-        gen.noalias() = s.C * xk;
-        gen.noalias() += s.D * uk;
-      }
-    }
-    if constexpr (lazy_products)
-      y.template tail<NGN>().noalias() = p->terminal.C.lazyProduct(x.template tail<NX>());
-    else
-      y.template tail<NGN>().noalias() = p->terminal.C * x.template tail<NX>();
-  }
-
-  /// y = A_P' l over the rows that are not solved exactly (the entries of l on the dynamics rows
-  /// are not read).
-  void path_tmul(const VecA& l, VecV& y) const {
-    for (int k = 0; k < N; ++k) {
-      const auto& s = p->stage[k];
-      const auto lg = l.template segment<NG>(k * NR + NX);
-      if constexpr (lazy_products) {
-        for (int i = 0; i < NX; ++i)
-          y(k * NW + i) = s.C.col(i).dot(lg);
-        if constexpr (NU > 0) {
-          for (int i = 0; i < NU; ++i)
-            y(k * NW + NX + i) = s.D.col(i).dot(lg);
-        }
-      } else {
-        y.template segment<NX>(k * NW).noalias() = s.C.transpose() * lg;
-        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose() * lg;
-      }
-    }
-    if constexpr (lazy_products)
-      y.template tail<NX>().noalias() =
-          p->terminal.C.transpose().lazyProduct(l.template tail<NGN>());
-    else
-      y.template tail<NX>().noalias() = p->terminal.C.transpose() * l.template tail<NGN>();
-  }
-
   /// v <- dx, a_D <- dnu, c_B <- dlam_B (backend.hpp, ExactRowBackend); a_D holds e and c_B the
   /// steps of the fixed variables on entry; wa: the row weights of factorize().
   /// ZeroRhs: the caller vouches that e and the fixed steps are zero (active_set.hpp's
