@@ -77,8 +77,9 @@ template <class R, int N, class T>
       << "GN: " << gn.info().iterations << " iterations, qp " << gn.info().qp_status;
   EXPECT_EQ(se, NmpcStatus::converged)
       << "exact: " << ex.info().iterations << " iterations, qp " << ex.info().qp_status;
-  if (exact_steps)
+  if (exact_steps) {
     EXPECT_LT(ex.info().hessian_fallbacks, ex.info().iterations) << "no exact-Hessian step";
+  }
   // the same optimum: the cost at the converged points (merit: cost + penalty of violations)
   const double mg = gn.info().merit, me = ex.info().merit;
   EXPECT_LE(std::abs(mg - me), (std::is_same_v<T, float> ? 1e-3 : 1e-9) * std::abs(mg))
