@@ -1,13 +1,11 @@
 // Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
 // toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
 // the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
-// Every variant runs with the default backend (the exact-dynamics Riccati one) and with the
-// penalised block elimination that was the default before it ("pen" labels, ocp_backend.hpp);
-// the double variants also with the reference block-tridiagonal Cholesky
-// ("chol_" labels), and one full factorization of each backend is measured on its own ("factor"
-// labels: dynamics rows and x_0 in the working set).
+// Every variant runs with the OCP solver's backend (the exact-dynamics Riccati one), and one full
+// factorization is measured on its own ("factor" labels: dynamics rows and x_0 in the working
+// set). (The penalised and reference Cholesky backends' rows of RESULTS.md were measured with
+// this program before issue 38 retired them.)
 //   valgrind --tool=callgrind --instr-atstart=no ./qp_count   (one dump per measured call)
-//   ./qp_count default: the default backend only
 #include <array>
 #include <cstdio>
 
@@ -42,14 +40,6 @@ struct Case {
 
 template <typename Qp>
 using Default = typename arbor::qp::detail::DefaultOcpBackend<Qp>::type;
-template <typename Qp>
-using Cholesky =
-    arbor::qp::detail::OcpCholeskyBackend<typename decltype(Qp{}.terminal.q)::Scalar, Qp::horizon,
-                                          Qp::nx, Qp::nu, Qp::ng, Qp::ngn>;
-
-template <typename Qp>
-using Penalised = typename arbor::qp::detail::PenalisedOcpBackend<Qp>::type;
-
 template <typename Qp, typename Backend = Default<Qp>>
 void run(const char* name) {
   static Case<Qp, Backend> c;  // static storage: ~0.3 MB
@@ -123,34 +113,13 @@ void factor(const char* name) {
 }
 }  // namespace
 
-int main(int argc, char** argv) {
-  // `qp_count default`: the default backend only (the rows of RESULTS.md's first section)
-  if (argc > 1 && argv[1][0] == 'd') {
-    factor<KinovaQp<double, 1>, Default<KinovaQp<double, 1>>>("fd_double/factor");
-    factor<KinovaQp<double, 8>, Default<KinovaQp<double, 8>>>("id_double/factor");
-    factor<KinovaQp<float, 1>, Default<KinovaQp<float, 1>>>("fd_float/factor");
-    run<KinovaQp<double, 1>>("fd_double");
-    run<KinovaQp<double, 8>>("id_double");
-    run<KinovaQp<float, 1>>("fd_float");
-    run<KinovaQp<float, 8>>("id_float");
-    return 0;
-  }
+int main() {
   factor<KinovaQp<double, 1>, Default<KinovaQp<double, 1>>>("fd_double/factor");
   factor<KinovaQp<double, 8>, Default<KinovaQp<double, 8>>>("id_double/factor");
-  factor<KinovaQp<double, 1>, Cholesky<KinovaQp<double, 1>>>("fd_double/chol_factor");
   factor<KinovaQp<float, 1>, Default<KinovaQp<float, 1>>>("fd_float/factor");
-  factor<KinovaQp<float, 1>, Cholesky<KinovaQp<float, 1>>>("fd_float/chol_factor");
-  run<KinovaQp<double, 1>, Cholesky<KinovaQp<double, 1>>>("fd_chol");
-  run<KinovaQp<double, 8>, Cholesky<KinovaQp<double, 8>>>("id_chol");
   run<KinovaQp<double, 1>>("fd_double");
   run<KinovaQp<double, 8>>("id_double");
   run<KinovaQp<float, 1>>("fd_float");
   run<KinovaQp<float, 8>>("id_float");
-  factor<KinovaQp<double, 1>, Penalised<KinovaQp<double, 1>>>("fd_double/pen_factor");
-  factor<KinovaQp<float, 1>, Penalised<KinovaQp<float, 1>>>("fd_float/pen_factor");
-  run<KinovaQp<double, 1>, Penalised<KinovaQp<double, 1>>>("fd_pen");
-  run<KinovaQp<double, 8>, Penalised<KinovaQp<double, 8>>>("id_pen");
-  run<KinovaQp<float, 1>, Penalised<KinovaQp<float, 1>>>("fd_pen_f");
-  run<KinovaQp<float, 8>, Penalised<KinovaQp<float, 8>>>("id_pen_f");
   return 0;
 }

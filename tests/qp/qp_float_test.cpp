@@ -1,5 +1,5 @@
 // float instantiation: the same kinds of problems as in double, solved in single precision with
-// the float defaults by both OCP backends (the default Riccati one and the penalised one);
+// the float defaults by the OCP solver (Riccati backend);
 // checked in double against the KKT conditions and the optimal value of the double-precision
 // dense solver (or the enumeration) on the very same (float) data.
 #include <gtest/gtest.h>
@@ -12,7 +12,6 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
-#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -23,10 +22,9 @@ namespace {
 using arbor::qp::DenseQpProblem;
 using arbor::qp::DenseQpSolver;
 using arbor::qp::OcpQp;
+using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
 using arbor::qp::to_string;
-using arbor::qp::test::OcpQpSolver;
-using arbor::qp::test::PenalisedOcpQpSolver;
 namespace t = arbor::qp::test;
 
 /// Checks one float solve in double: status, KKT conditions, objective against the dense
@@ -58,15 +56,14 @@ void expect_float_matches(const char* backend, const Solver& solver, QpStatus su
   }
 }
 
-/// count random problems in float, each solved by the default (Riccati) and the penalised OCP
-/// backend, checked against the double dense solver (and the enumeration) on the same data.
+/// count random problems in float, each solved by the OCP solver, checked against the double dense solver (and the enumeration) on the same data.
+/// scale multiplies the cost (H, g): the solution is the same, the multipliers scale with it.
 template <int N, int NX, int NU, int NG, int NGN>
-void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
+void check_float(unsigned seed0, int count, bool strict, bool enumerate, double scale = 1) {
   using QpF = OcpQp<float, N, NX, NU, NG, NGN>;
   using QpD = OcpQp<double, N, NX, NU, NG, NGN>;
   static QpF qp;
   static OcpQpSolver<QpF> solver;
-  static PenalisedOcpQpSolver<QpF> penalised;
   static DenseQpProblem<double, QpD::nv, QpD::na> dp;
   static DenseQpSolver<double, QpD::nv, QpD::na> dense;
   t::RandomOcpOptions opt;
@@ -76,17 +73,26 @@ void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
   for (int c = 0; c < count; ++c) {
     std::mt19937 rng(seed0 + static_cast<unsigned>(c));
     t::random_ocp(qp, rng, opt);
+    if (scale != 1) {
+      const float f = static_cast<float>(scale);
+      for (auto& st : qp.stage) {
+        st.Q *= f;
+        st.S *= f;
+        st.R *= f;
+        st.q *= f;
+        st.r *= f;
+      }
+      qp.terminal.Q *= f;
+      qp.terminal.q *= f;
+    }
     const t::RefQp ref = t::to_ref(qp);  // the float data, exactly, in double
     t::to_dense(ref, dp);
-    QpStatus st, sd, su, spu, sp;
+    QpStatus st, sd, su;
     {
       arbor::test::NoAllocScope guard;
       su = solver.setup(qp);
       solver.cold_start();
       st = solver.solve();
-      spu = penalised.setup(qp);
-      penalised.cold_start();
-      sp = penalised.solve();
       // the float-rounded Hessian of a rank-deficient PSD matrix may be indefinite by ~1e-7
       arbor::qp::QpSettings<double> ds;
       ds.psd_tolerance = 1e-6;
@@ -94,7 +100,7 @@ void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
       dense.cold_start();
       sd = dense.solve();
     }
-    SCOPED_TRACE(::testing::Message() << "seed " << seed0 + c);
+    SCOPED_TRACE(::testing::Message() << "seed " << seed0 + c << " cost scale " << scale);
     ASSERT_EQ(sd, QpStatus::solved) << to_string(sd);
     t::EnumResult e;
     if (enumerate) {
@@ -102,8 +108,7 @@ void check_float(unsigned seed0, int count, bool strict, bool enumerate) {
       ASSERT_TRUE(e.found);
     }
     const t::EnumResult* pe = enumerate ? &e : nullptr;
-    expect_float_matches("default (Riccati) backend", solver, su, st, ref, dense, strict, pe);
-    expect_float_matches("penalised backend", penalised, spu, sp, ref, dense, strict, pe);
+    expect_float_matches("OCP solver (Riccati backend)", solver, su, st, ref, dense, strict, pe);
   }
 }
 
@@ -118,6 +123,16 @@ TEST(QpFloat, RandomStrictlyConvexMatchesDouble) {
 
 TEST(QpFloat, RandomMerelyConvexMatchesDouble) {
   check_float<8, 4, 2, 1, 1>(500, 8, false, false);
+}
+
+// The cost multiplied by s changes no solution. With an absolute dual regularisation the float
+// solver stalled on rank-deficient problems from s = 100 on (9 of 40 random problems of this
+// kind at s = 100, every one from s = 1e4; double from s = 1e4: issue 35's float non-convex and
+// stalled QPs of the NMPC, whose costs carry weights of 1e2-1e4). The weights are now relative
+// to the curvature (active_set.hpp).
+TEST(QpFloat, CostScaleChangesNothing) {
+  for (double s : {1e-4, 1e2, 1e4, 1e6})
+    check_float<8, 4, 2, 1, 1>(700, 6, false, false, s);
 }
 
 TEST(QpFloat, DenseCasadiIssue3141) {

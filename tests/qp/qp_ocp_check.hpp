@@ -1,6 +1,5 @@
-// Shared check of the OCP tests: solve a random OcpQp with both structured solvers (the default
-// Riccati backend and the penalised one, qp_test_solver.hpp) and the dense solver (inside an
-// allocation guard) and compare them with the KKT conditions, recomputed with dynamic Eigen, and
+// Shared check of the OCP tests: solve a random OcpQp with the structured solver (OcpQpSolver,
+// the Riccati backend) and the dense solver (inside an allocation guard) and compare them with the KKT conditions, recomputed with dynamic Eigen, and
 // optionally with the exhaustive active-set enumeration.
 #pragma once
 
@@ -13,7 +12,6 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
-#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -53,15 +51,14 @@ void expect_matches(const char* backend, const Solver& solver, QpStatus su, QpSt
   }
 }
 
-/// count random problems of one kind and size, each solved by the default (Riccati) and the
-/// penalised OCP backend and by the dense solver (and, with enumerate, by enumeration).
+/// count random problems of one kind and size, each solved by the OCP solver and by the dense
+/// solver (and, with enumerate, by enumeration).
 template <int N, int NX, int NU, int NG, int NGN>
 void check_random(unsigned seed0, int count, Convexity kind, bool enumerate) {
   const bool strict = kind == Convexity::strict;
   using Qp = OcpQp<double, N, NX, NU, NG, NGN>;
   static Qp qp;
   static OcpQpSolver<Qp> solver;
-  static PenalisedOcpQpSolver<Qp> penalised;
   static DenseQpProblem<double, Qp::nv, Qp::na> dp;
   static DenseQpSolver<double, Qp::nv, Qp::na> dense;
   RandomOcpOptions opt;
@@ -74,15 +71,12 @@ void check_random(unsigned seed0, int count, Convexity kind, bool enumerate) {
     random_ocp(qp, rng, opt);
     const RefQp ref = to_ref(qp);
     to_dense(ref, dp);
-    QpStatus st, sd, su, sdu, spu, sp;
+    QpStatus st, sd, su, sdu;
     {
       arbor::test::NoAllocScope guard;
       su = solver.setup(qp);
       solver.cold_start();
       st = solver.solve();
-      spu = penalised.setup(qp);
-      penalised.cold_start();
-      sp = penalised.solve();
       sdu = dense.setup(dp);
       dense.cold_start();
       sd = dense.solve();
@@ -101,8 +95,7 @@ void check_random(unsigned seed0, int count, Convexity kind, bool enumerate) {
       ASSERT_TRUE(e.found);
     }
     const EnumResult* pe = enumerate ? &e : nullptr;
-    expect_matches("default (Riccati) backend", solver, su, st, ref, dense, kd, strict, pe);
-    expect_matches("penalised backend", penalised, spu, sp, ref, dense, kd, strict, pe);
+    expect_matches("OCP solver (Riccati backend)", solver, su, st, ref, dense, kd, strict, pe);
   }
 }
 

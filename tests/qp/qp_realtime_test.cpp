@@ -16,7 +16,6 @@
 #include "arbor/qp/dense_qp_solver.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
-#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -28,8 +27,8 @@ using arbor::qp::Convexity;
 using arbor::qp::DenseQpProblem;
 using arbor::qp::DenseQpSolver;
 using arbor::qp::OcpQp;
+using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
-using arbor::qp::test::OcpQpSolver;
 namespace t = arbor::qp::test;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

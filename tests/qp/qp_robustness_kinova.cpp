@@ -12,7 +12,6 @@
 #include "kinova_qp.hpp"
 #include "qp_reference.hpp"
 #include "qp_robustness.hpp"
-#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -20,9 +19,9 @@ using ::arbor::test::status_names::operator<<;  // failure messages print status
 }
 
 namespace {
+using arbor::qp::OcpQpSolver;
 using arbor::qp::QpSettings;
 using arbor::qp::QpStatus;
-using arbor::qp::test::OcpQpSolver;
 namespace t = arbor::qp::test;
 
 using t::cold_solve;

@@ -15,7 +15,6 @@
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "qp_reference.hpp"
 #include "qp_robustness.hpp"
-#include "qp_test_solver.hpp"
 #include "status_names.hpp"
 
 namespace arbor::qp {
@@ -26,9 +25,9 @@ namespace {
 using arbor::qp::DenseQpProblem;
 using arbor::qp::DenseQpSolver;
 using arbor::qp::OcpQp;
+using arbor::qp::OcpQpSolver;
 using arbor::qp::QpSettings;
 using arbor::qp::QpStatus;
-using arbor::qp::test::OcpQpSolver;
 namespace t = arbor::qp::test;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

@@ -26,7 +26,9 @@
 //   epsilon = reg_dual on the active multipliers):
 //     (H + delta I + A_W' E A_W) dx = -(H x + g + A' lam) - A_W' E (A_W x - t_W)
 //     dlam_W = E (A_W (x + dx) - t_W),   dlam_i = 0 off the working set,
-//   with E = diag(1 / (eps |a_i|^2)) (rows normalised; |a_i| = 1 for bounds).
+//   with E = diag(h / (eps |a_i|^2)) (rows normalised; |a_i| = 1 for bounds; h the largest
+//   |H_ii|, 1 when H = 0: the weights dominate the curvature by 1 / eps at every scale of the
+//   cost, and a cost multiplied by s gives the same steps, multipliers multiplied by s).
 //   A backend that solves some rows exactly (ExactRowBackend in backend.hpp: the OCP's dynamics
 //   rows, by a Riccati recursion) leaves them out of E: they hold exactly, D (x + dx) = t_D,
 //   and their multiplier steps dlam_D come from its solve (compute_step(); the rows are
@@ -300,7 +302,8 @@ class ActiveSetCore {
 
   // state of the iteration loop
   Scalar delta_ = 0;                    ///< primal regularisation in use
-  Scalar w_ = 0;                        ///< bound weight 1 / eps
+  Scalar w_ = 0;                        ///< bound weight h / eps
+  Scalar h_ = 1;                        ///< curvature scale: largest |H_ii| (1 when H = 0)
   int pending_ = -1;                    ///< index of a pending change from the ratio test
   State pending_ws_ = State::inactive;  ///< its next working-set state
   bool refactor_ = true;                ///< the factorization is out of date
@@ -332,7 +335,7 @@ class ActiveSetCore {
   VecV dlam_x_;      ///< bound-multiplier step
   VecA dlam_a_;      ///< row-multiplier step
   VecA tmpa_;        ///< row workspace
-  VecA wa_;          ///< regularisation weight of each row, 1 / (eps |a_j|^2)
+  VecA wa_;          ///< regularisation weight of each row, h / (eps |a_j|^2)
   VecA rn_;          ///< row norms |a_j| (1 for a zero row)
   VecV tmpv_;        ///< variable workspace (certificates)
   VecV best_x_;      ///< best iterate so far
@@ -358,8 +361,14 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   }
   working_set_from_multipliers();
   delta_ = s.reg_primal;
-  w_ = Scalar(1) / s.reg_dual;
-  // row weights 1 / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
+  // epsilon relative to the curvature: w = h / reg_dual with h the largest |H_ii| (1 for an LP),
+  // so that the weights dominate H by the same factor whatever the cost's scale (an absolute
+  // epsilon let a cost scaled by 100 stall float solves, 1e4 every one; issue 35)
+  h_ = be.hessian_scale();
+  if (!(h_ > 0) || !std::isfinite(h_))
+    h_ = Scalar(1);
+  w_ = h_ / s.reg_dual;
+  // row weights h / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
   // small coefficients (a linearised path constraint) converge as fast as bounds
   be.row_norms_sq(wa_);
   for (int j = 0; j < NA; ++j) {
@@ -622,7 +631,7 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
     delta_ *= Scalar(10);
     ++info.regularization_bumps;
     be.mark_all();
-    if (delta_ > s.reg_primal_max)
+    if (delta_ > s.reg_primal_max * std::max(Scalar(1), h_))
       return false;
   }
   ++info.factorizations;

@@ -26,6 +26,7 @@ struct DenseBackend {
   void mark_changed(int) {}
   void mark_all() {}
   void row_norms_sq(VecA& n) const { n = p->A.rowwise().squaredNorm(); }
+  Scalar hessian_scale() const { return p->H.diagonal().cwiseAbs().maxCoeff(); }
   int factorize(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
     m = p->H;
     m.diagonal().array() += delta;

@@ -1,5 +1,6 @@
 // arbor::qp::detail::kernels: small dense kernels with compile-time sizes for the OCP
-// factorization (ocp_backend.hpp). Plain loops over fixed sizes, written so that the compiler
+// factorization (ocp_riccati_backend.hpp; packed_kernels.hpp holds the kernels on packed
+// triangles). Plain loops over fixed sizes, written so that the compiler
 // keeps a 4 x 4 block of the result in registers and vectorises over its rows without
 // reassociating any sum (no -ffast-math needed); every function works for any size (the last
 // row and column blocks are narrower, also fixed at compile time).

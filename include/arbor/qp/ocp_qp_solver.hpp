@@ -4,10 +4,10 @@
 // with primal blocking constraints and dual break points, warm start from x and lam). Linear
 // algebra: ocp_riccati_backend.hpp (the default: the dynamics rows solved exactly by a backward
 // square-root Riccati recursion, costates from the solve, rank-one sweeps for working-set
-// changes), ocp_backend.hpp (the former default: every row a proximal penalty, stage-wise block
-// elimination; opt-in: OcpQpSolver<Qp, detail::PenalisedOcpBackend<Qp>::type>) or
-// ocp_cholesky_backend.hpp (the first block-tridiagonal Cholesky, kept for comparison:
-// OcpQpSolver<Qp, detail::OcpCholeskyBackend<...>>). bench/qp/RESULTS.md compares them.
+// changes; its products with the stage blocks in ocp_products.hpp, its packed triangular kernels
+// in packed_kernels.hpp and kernels.hpp). The penalised block elimination and the first
+// block-tridiagonal Cholesky that preceded it were retired (issue 38); bench/qp/RESULTS.md keeps
+// their measurements.
 // Cost: O(N (NX+NU)^3) per full factorization (one per solve), O(N (NX+NU)^2) per working-set
 // change and per iteration otherwise.
 // Memory (scalars, default backend): N (NW (NW+1)/2) + NX (NX+1)/2 for the factor, about
@@ -34,8 +34,6 @@
 
 #include "arbor/core/config.hpp"
 #include "arbor/qp/data_checks.hpp"
-#include "arbor/qp/ocp_backend.hpp"
-#include "arbor/qp/ocp_cholesky_backend.hpp"
 #include "arbor/qp/ocp_riccati_backend.hpp"
 #include "arbor/qp/problem.hpp"
 #include "arbor/qp/settings.hpp"
@@ -52,23 +50,14 @@ template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
 struct RiccatiOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   using type = OcpRiccatiBackend<Scalar, N, NX, NU, NG, NGN>;
 };
-/// The penalised block elimination (ocp_backend.hpp, the default before issue 15's Riccati
-/// backend): every row, the dynamics too, a proximal weight 1 / reg_dual.
-template <typename Qp>
-struct PenalisedOcpBackend;
-template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
-struct PenalisedOcpBackend<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
-  using type = OcpBackend<Scalar, N, NX, NU, NG, NGN>;
-};
 /// The default linear algebra of OcpQpSolver<Qp>: the Riccati backend.
 template <typename Qp>
 struct DefaultOcpBackend : RiccatiOcpBackend<Qp> {};
 }  // namespace detail
 
 /// Structure-exploiting active-set solver for an OcpQp type `Qp` (see the top of this file).
-/// `Backend` selects the linear algebra (the default Riccati backend, the penalised
-/// detail::PenalisedOcpBackend<Qp>::type or detail::OcpCholeskyBackend for comparisons); all take
-/// the same problem and give the same results up to round-off.
+/// `Backend` is the linear algebra: the Riccati backend, or a type derived from it (a benchmark's
+/// instrumented copy, bench/nmpc/rti_qp_diag.cpp); it must model ActiveSetBackend (backend.hpp).
 template <typename Qp, typename Backend = typename detail::DefaultOcpBackend<Qp>::type>
 class OcpQpSolver;
 

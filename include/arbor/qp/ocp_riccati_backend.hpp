@@ -15,8 +15,8 @@
 //                                               NX x NX block of L_k, no extra work)
 // F_k' P_{k+1} F_k is formed as T' T with T = Lxx_{k+1}' F_k (triangular times dense). Per stage
 // in multiply-adds: NX^2 NW / 2 (T) + NW (NW+1) NX / 2 (T' T) + NW^3 / 6 (Cholesky):
-// 3.1 k + 4.8 k + 2.3 k = 10.2 k for NX = 16, NU = 8 (the penalised elimination of
-// ocp_backend.hpp: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
+// 3.1 k + 4.8 k + 2.3 k = 10.2 k for NX = 16, NU = 8 (the penalised block elimination it
+// replaced: 14.8 k), no product with X_k, no 1/eps weights in the matrix.
 // solve_exact(): backward, h_k = f_k + F_k' Lxx_{k+1} (y_{x,k+1} - Lxx_{k+1}' e_k), y_k =
 // L_k^-1 h_k; forward, from dx_0 = L_0^-T y_0: du_k = Luu^-T (y_u - Lxu' dx_k), the costate
 // dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
@@ -24,7 +24,7 @@
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
 // penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
 // gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve
-// ~45 k); with AVX2+FMA and the [A B] products written per column (ocp_backend.hpp,
+// ~45 k); with AVX2+FMA and the [A B] products written per column (ocp_products.hpp,
 // lazy_products) the factorization takes 199 k (OCP-FD) and one solve_exact ~73 k. This is the
 // default backend of OcpQpSolver (ocp_qp_solver.hpp).
 // Exact bounds (exact_bound()): a working bound of an input u_k or of x_0 fixes its variable
@@ -44,7 +44,7 @@
 // k..0 instead (k + 1 stage factorizations); after max_updates updates the next factorization
 // is a full one.
 // Memory (scalars): N NW (NW+1)/2 + NX (NX+1)/2 for the factor (no off-diagonal blocks: ~49 KB
-// less than ocp_backend.hpp at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
+// less than the penalised elimination's at the Kinova size in double), plus NV + NA bytes. Stack: an NW x NW
 // scratch, [B A]', T' and an unpacked Lxx during a stage's factorization (the transposed copies
 // by kernels::transpose, T' assigned by the product, M_k's upper part not filled where the kernels
 // do not read it).
@@ -60,7 +60,8 @@
 
 #include "arbor/qp/backend.hpp"
 #include "arbor/qp/kernels.hpp"
-#include "arbor/qp/ocp_backend.hpp"
+#include "arbor/qp/ocp_products.hpp"
+#include "arbor/qp/packed_kernels.hpp"
 #include "arbor/qp/problem.hpp"
 
 namespace arbor::qp::detail {
@@ -182,60 +183,6 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     }
     dirty_to = -1;
     return done;
-  }
-
-  /// y = A_P x on the rows that are not solved exactly (the path rows; the others keep their
-  /// values): the step's A dx needs no product with the dynamics rows, whose D dx is the e the
-  /// solve was given.
-  void path_mul(const VecV& x, VecA& y) const {
-    for (int k = 0; k < N; ++k) {
-      const auto& s = p->stage[k];
-      const auto xk = x.template segment<NX>(k * NW);
-      const auto uk = x.template segment<NU>(k * NW + NX);
-      if constexpr (lazy_products) {
-        Eigen::Matrix<Scalar, NG, 1> ag = s.C.col(0) * xk(0);
-        for (int j = 1; j < NX; ++j)
-          ag += s.C.col(j) * xk(j);
-        if constexpr (NU > 0) {
-          for (int j = 0; j < NU; ++j)
-            ag += s.D.col(j) * uk(j);
-        }
-        y.template segment<NG>(k * NR + NX) = ag;
-      } else {
-        auto gen = y.template segment<NG>(k * NR + NX);
-        gen.noalias() = s.C * xk;
-        gen.noalias() += s.D * uk;
-      }
-    }
-    if constexpr (lazy_products)
-      y.template tail<NGN>().noalias() = p->terminal.C.lazyProduct(x.template tail<NX>());
-    else
-      y.template tail<NGN>().noalias() = p->terminal.C * x.template tail<NX>();
-  }
-
-  /// y = A_P' l over the rows that are not solved exactly (the entries of l on the dynamics rows
-  /// are not read).
-  void path_tmul(const VecA& l, VecV& y) const {
-    for (int k = 0; k < N; ++k) {
-      const auto& s = p->stage[k];
-      const auto lg = l.template segment<NG>(k * NR + NX);
-      if constexpr (lazy_products) {
-        for (int i = 0; i < NX; ++i)
-          y(k * NW + i) = s.C.col(i).dot(lg);
-        if constexpr (NU > 0) {
-          for (int i = 0; i < NU; ++i)
-            y(k * NW + NX + i) = s.D.col(i).dot(lg);
-        }
-      } else {
-        y.template segment<NX>(k * NW).noalias() = s.C.transpose() * lg;
-        y.template segment<NU>(k * NW + NX).noalias() = s.D.transpose() * lg;
-      }
-    }
-    if constexpr (lazy_products)
-      y.template tail<NX>().noalias() =
-          p->terminal.C.transpose().lazyProduct(l.template tail<NGN>());
-    else
-      y.template tail<NX>().noalias() = p->terminal.C.transpose() * l.template tail<NGN>();
   }
 
   /// v <- dx, a_D <- dnu, c_B <- dlam_B (backend.hpp, ExactRowBackend); a_D holds e and c_B the
