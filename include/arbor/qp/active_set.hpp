@@ -183,6 +183,11 @@ class ActiveSetCore {
   static constexpr int kStallIterations = 10;
   /// Singular-step drops remembered by the anti-cycling rule.
   static constexpr int kDropMemory = 8;
+  /// The primal regularisation's cap is reg_primal_max or, for a large cost, this many units of
+  /// round-off of the curvature scale h (float: 1.2e-4 h), whichever is larger: enough for the
+  /// pivots that round-off of a positive semidefinite H breaks, never enough to hide a
+  /// curvature of -1e-3 h or below (the exact-Hessian SQP falls back on non_convex).
+  static constexpr Scalar kRoundoffPivots = 1000;
   /// Iterations with incrementally updated products before they are recomputed from scratch.
   static constexpr int kExactEvery = 10;
 
@@ -631,7 +636,8 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
     delta_ *= Scalar(10);
     ++info.regularization_bumps;
     be.mark_all();
-    if (delta_ > s.reg_primal_max * std::max(Scalar(1), h_))
+    if (delta_ >
+        std::max(s.reg_primal_max, kRoundoffPivots * std::numeric_limits<Scalar>::epsilon() * h_))
       return false;
   }
   ++info.factorizations;

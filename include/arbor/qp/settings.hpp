@@ -14,8 +14,9 @@
 // keeps dependent active constraints solvable. Neither changes the solution: both are centred at
 // the current iterate. epsilon is relative to the curvature: the weights are h / reg_dual with h
 // the largest |H_ii| (1 when H = 0), so multiplying the cost by any s > 0 gives the same steps
-// (an absolute epsilon let float solves stall from s = 100 on; tests/qp/qp_float_test.cpp); the
-// cap of delta, reg_primal_max, is relative to max(1, h) likewise.
+// (an absolute epsilon let float solves stall from s = 100 on; tests/qp/qp_float_test.cpp).
+// delta's cap is reg_primal_max or 1000 eps h (float: 1.2e-4 h), whichever is larger: the
+// round-off of a large cost's pivots, never a real negative curvature (active_set.hpp).
 #pragma once
 
 namespace arbor::qp {
@@ -52,7 +53,7 @@ struct QpSettings<double> {
   double tol_comp = 1e-8;         ///< max allowed complementarity residual
   double reg_primal = 1e-8;       ///< delta: primal proximal weight (> 0)
   double reg_dual = 1e-6;         ///< epsilon: dual proximal weight (> 0), relative to h
-  double reg_primal_max = 1e-3;   ///< delta is raised tenfold up to this * max(1, h) on round-off
+  double reg_primal_max = 1e-3;   ///< delta is raised tenfold up to this on round-off failure
   double tol_certificate = 1e-6;  ///< relative tolerance of infeasibility/unboundedness tests
   double psd_tolerance = 1e-10;   ///< relative eigenvalue slack of the convexity check
   /// Field by field (not the padding bytes).
@@ -68,7 +69,7 @@ struct QpSettings<float> {
   float tol_comp = 1e-4f;         ///< max allowed complementarity residual
   float reg_primal = 1e-4f;       ///< delta: primal proximal weight (> 0)
   float reg_dual = 1e-3f;         ///< epsilon: dual proximal weight (> 0), relative to h
-  float reg_primal_max = 1e-1f;   ///< delta is raised tenfold up to this * max(1, h) on round-off
+  float reg_primal_max = 1e-1f;   ///< delta is raised tenfold up to this on round-off failure
   float tol_certificate = 1e-3f;  ///< relative tolerance of infeasibility/unboundedness tests
   float psd_tolerance = 1e-5f;    ///< relative eigenvalue slack of the convexity check
   /// Field by field (not the padding bytes).
