@@ -26,9 +26,10 @@
 //   epsilon = reg_dual on the active multipliers):
 //     (H + delta I + A_W' E A_W) dx = -(H x + g + A' lam) - A_W' E (A_W x - t_W)
 //     dlam_W = E (A_W (x + dx) - t_W),   dlam_i = 0 off the working set,
-//   with E = diag(h / (eps |a_i|^2)) (rows normalised; |a_i| = 1 for bounds; h the largest
-//   |H_ii|, 1 when H = 0: the weights dominate the curvature by 1 / eps at every scale of the
-//   cost, and a cost multiplied by s gives the same steps, multipliers multiplied by s).
+//   with E = diag(h / (eps |a_i|^2)) (rows normalised; |a_i| = 1 for bounds; h = 1, or with
+//   QpSettings::relative_regularisation the largest |H_ii| (1 when H = 0): the weights then
+//   dominate the curvature by 1 / eps at every scale of the cost, and a cost multiplied by s
+//   gives the same steps, multipliers multiplied by s).
 //   A backend that solves some rows exactly (ExactRowBackend in backend.hpp: the OCP's dynamics
 //   rows, by a Riccati recursion) leaves them out of E: they hold exactly, D (x + dx) = t_D,
 //   and their multiplier steps dlam_D come from its solve (compute_step(); the rows are
@@ -366,10 +367,11 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   }
   working_set_from_multipliers();
   delta_ = s.reg_primal;
-  // epsilon relative to the curvature: w = h / reg_dual with h the largest |H_ii| (1 for an LP),
-  // so that the weights dominate H by the same factor whatever the cost's scale (an absolute
-  // epsilon let a cost scaled by 100 stall float solves, 1e4 every one; issue 35)
-  h_ = be.hessian_scale();
+  // with relative_regularisation, epsilon relative to the curvature: w = h / reg_dual with h the
+  // largest |H_ii| (1 for an LP), so that the weights dominate H by the same factor whatever the
+  // cost's scale (an absolute epsilon let a cost scaled by 100 stall float solves, 1e4 every one;
+  // issue 35); else h = 1 (see settings.hpp for why it is not the default)
+  h_ = s.relative_regularisation ? be.hessian_scale() : Scalar(1);
   if (!(h_ > 0) || !std::isfinite(h_))
     h_ = Scalar(1);
   w_ = h_ / s.reg_dual;

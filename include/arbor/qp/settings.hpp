@@ -12,11 +12,14 @@
 // delta > 0 makes zero-curvature directions (a path parameter without cost, an LP) solvable and
 // turns them into long steps that the ratio test cuts at the first blocking constraint; epsilon > 0
 // keeps dependent active constraints solvable. Neither changes the solution: both are centred at
-// the current iterate. epsilon is relative to the curvature: the weights are h / reg_dual with h
-// the largest |H_ii| (1 when H = 0), so multiplying the cost by any s > 0 gives the same steps
-// (an absolute epsilon let float solves stall from s = 100 on; tests/qp/qp_float_test.cpp).
-// delta's cap is reg_primal_max or 1000 eps h (float: 1.2e-4 h), whichever is larger: the
-// round-off of a large cost's pivots, never a real negative curvature (active_set.hpp).
+// the current iterate. With relative_regularisation, epsilon is relative to the curvature: the
+// weights are h / reg_dual with h the largest |H_ii| (1 when H = 0), so multiplying the cost by
+// any s > 0 gives the same steps (with the absolute epsilon, float solves of rank-deficient
+// problems stall from s = 100 on; tests/qp/qp_float_test.cpp), and delta's cap is reg_primal_max
+// or 1000 eps h (float: 1.2e-4 h), whichever is larger. Not the default: on the float contour
+// closed loop (costs with curvatures from 1e-3 to ~1e3 side by side) the weights h / reg_dual
+// doubled the QP iterations (238 against 112 over 50 samples, tests/contour/target_test.cpp);
+// a weight per constraint from its own curvature would serve both (docs/qp.md).
 #pragma once
 
 namespace arbor::qp {
@@ -56,6 +59,7 @@ struct QpSettings<double> {
   double reg_primal_max = 1e-3;   ///< delta is raised tenfold up to this on round-off failure
   double tol_certificate = 1e-6;  ///< relative tolerance of infeasibility/unboundedness tests
   double psd_tolerance = 1e-10;   ///< relative eigenvalue slack of the convexity check
+  bool relative_regularisation = false;  ///< weights h / reg_dual (scale-invariant; see above)
   /// Field by field (not the padding bytes).
   friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };
@@ -72,6 +76,7 @@ struct QpSettings<float> {
   float reg_primal_max = 1e-1f;   ///< delta is raised tenfold up to this on round-off failure
   float tol_certificate = 1e-3f;  ///< relative tolerance of infeasibility/unboundedness tests
   float psd_tolerance = 1e-5f;    ///< relative eigenvalue slack of the convexity check
+  bool relative_regularisation = false;  ///< weights h / reg_dual (scale-invariant; see above)
   /// Field by field (not the padding bytes).
   friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };
