@@ -263,9 +263,13 @@ TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
   EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
 }
 #elif ARBOR_MATRIX_PART == 2
+// (not on the targets, ARBOR_MATRIX_NO_EXACT: the exact-Hessian controller's nested duals are
+// half the unit's compile time there, and at these sizes it falls back to Gauss-Newton anyway)
+#if !defined(ARBOR_MATRIX_NO_EXACT)
 TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgreeInFloat) {
   gauss_newton_matches_exact<R7, 20, float>(false, 2e-2);
 }
+#endif
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasibleInFloat) {
   const auto st = hard_tunnel_jump_status<R7, 20, float>();
   EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
