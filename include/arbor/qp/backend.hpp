@@ -1,6 +1,6 @@
 // arbor::qp::detail: the interface between the active-set logic (active_set.hpp) and its linear
-// algebra (dense_backend.hpp, ocp_riccati_backend.hpp), written as a C++20 concept, and the working-set
-// states both sides read. Declarations only: no code runs here.
+// algebra (dense_backend.hpp, ocp_riccati_backend.hpp), written as a C++20 concept, and the
+// working-set states both sides read. Declarations only: no code runs here.
 //
 // A backend owns the factorization of M = H + delta I + A_W' E A_W (active_set.hpp) for the
 // working set W, and the products with the problem's H and A (PenalisedBackend), or the
@@ -46,7 +46,7 @@ concept BackendProducts = requires(B& b, const B& cb, const Eigen::Matrix<Scalar
   { cb.hessian_scale() } -> std::convertible_to<Scalar>;
   b.mark_changed(i);  // constraint i changed state: refactorize what it touches
   b.mark_all();       // everything must be refactorized (new data, new delta)
-  // factorizes for the working set ws[0..NV+NA) with delta, the bound weight w = 1/eps
+  // factorizes for the working set ws[0..NV+NA) with delta, the bound weight w = h/eps
   // and the row weights a; returns the number of blocks factorized, -1 on a pivot failure
   { b.factorize(ws, s, s, a) } -> std::same_as<int>;
 };
