@@ -6,7 +6,9 @@
 // so every dump holds exactly one phase's instructions: what a wall clock measures without the
 // machine's noise (preemption, caches, frequency). Without valgrind it runs and counts nothing.
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
+#include <string>
 
 #include "closed_loop.hpp"
 
@@ -40,8 +42,20 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, double, CallgrindT
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   Options o;
+  // [K] [--mismatch] [--noise SIGMA]: the feedback's bound on QP iterations
+  // (NmpcSettings::feedback_qp_iterations; 0: none) and the plant scenarios of examples/contour
+  // (0.5 kg payload the controller does not know; measurement noise on q, 10x on qd)
+  if (argc > 1)
+    o.feedback_qp_iter = std::atoi(argv[1]);
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--mismatch")
+      o.mismatch = true;
+    else if (a == "--noise" && i + 1 < argc)
+      o.noise = std::atof(argv[++i]);
+  }
   const auto loop = std::make_unique<Loop>(o);
   const auto st = loop->start();
   if (st != arbor::nmpc::NmpcStatus::converged) {
@@ -50,14 +64,18 @@ int main() {
   }
   CALLGRIND_START_INSTRUMENTATION;
   Record r;
-  int n = 0, failed = 0;
+  int n = 0, failed = 0, limited = 0;
+  double e_max = 0;
   while (!loop->done()) {
     loop->sample(r);
     ++n;
     failed += !arbor::nmpc::succeeded(r.status);
+    limited += r.status == arbor::nmpc::NmpcStatus::step_limited;
+    e_max = r.e_p > e_max ? r.e_p : e_max;
     std::printf("sample %d qp_iterations %d e_p %.6g s %.6g\n", n - 1, r.qp_iterations, r.e_p,
                 r.x[14]);
   }
-  std::printf("samples %d failed %d %s\n", n, failed, CONTOUR_ID ? "OCP-ID" : "OCP-FD");
+  std::printf("samples %d failed %d step_limited %d max e_p %.3f mm (tunnel %.1f mm) %s\n", n,
+              failed, limited, 1e3 * e_max, 1e3 * contour::rho, CONTOUR_ID ? "OCP-ID" : "OCP-FD");
   return failed != 0;
 }

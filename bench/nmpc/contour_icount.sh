@@ -7,6 +7,11 @@
 #
 #   bash bench/nmpc/contour_icount.sh [build-dir]     (default: build-fig2, as fig2.sh)
 #
+# FEEDBACK_ITER=K bounds the feedback's QP to K active-set iterations
+# (NmpcSettings::feedback_qp_iterations; default: no bound). FORMS="fd" runs one formulation.
+# SCENARIO="--mismatch" and/or "--noise SIGMA": the example's plant scenarios (unknown 0.5 kg
+# payload; measurement noise).
+#
 # Needs valgrind; about 2 min of compiler time and 1 min of callgrind per formulation.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -15,13 +20,13 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_BENCH=ON >
 cmake --build "$build" -j"${JOBS:-1}" --target arbor_bench_contour_icount arbor_bench_contour_icount_id
 work=$build/contour_icount
 rm -rf "$work" && mkdir -p "$work"
-echo "| formulation | phase | samples | median | p95 | max | max / median |"
-echo "|---|---|---:|---:|---:|---:|---:|"
-for form in fd id; do
+echo "| formulation | phase (feedback bound ${FEEDBACK_ITER:-none}${SCENARIO:+, $SCENARIO}) | samples | median | p95 | p99 | max | max / median |"
+echo "|---|---|---:|---:|---:|---:|---:|---:|"
+for form in ${FORMS:-fd id}; do
   exe=$build/bench/nmpc/arbor_bench_contour_icount
   [[ $form == id ]] && exe=${exe}_id
   (cd "$work" && valgrind --tool=callgrind --instr-atstart=no --dump-instr=no \
-    --callgrind-out-file="$work/cg.$form" "$exe" >"$work/$form.log" 2>"$work/$form.err") ||
+    --callgrind-out-file="$work/cg.$form" "$exe" ${FEEDBACK_ITER:-0} ${SCENARIO:-} >"$work/$form.log" 2>"$work/$form.err") ||
     { tail "$work/$form.err" "$work/$form.log" >&2; exit 1; }
   # one file per dump, cg.<form>.<k>, k = 1, 2, ... in call order; its "totals:" line is the
   # instructions since the previous dump. Per sample: dump 3s+1 closes the gap before the
@@ -31,10 +36,10 @@ for form in fd id; do
     [[ $k =~ ^[0-9]+$ ]] || continue
     echo "$k $(awk '/^totals:/ {print $2}' "$f")"
   done | sort -n | awk -v form="$form" '
-    function stats(name, a, n,   i, j, t, med, p95) {
+    function stats(name, a, n,   i, j, t, med, p95, p99) {
       for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (a[j] < a[i]) {t = a[i]; a[i] = a[j]; a[j] = t}
-      med = a[int((n + 1) / 2)]; p95 = a[int(0.95 * n + 0.999)]
-      printf "| %s | %s | %d | %d | %d | %d | %.2f |\n", (form == "fd" ? "OCP-FD" : "OCP-ID"), name, n, med, p95, a[n], a[n] / med
+      med = a[int((n + 1) / 2)]; p95 = a[int(0.95 * n + 0.999)]; p99 = a[int(0.99 * n + 0.999)]
+      printf "| %s | %s | %d | %d | %d | %d | %d | %.2f |\n", (form == "fd" ? "OCP-FD" : "OCP-ID"), name, n, med, p95, p99, a[n], a[n] / med
     }
     { s = int(($1 - 1) / 3); p = ($1 - 1) % 3
       if (p == 1) prep[s + 1] = $2; else if (p == 2) {fb[s + 1] = $2; both[s + 1] = prep[s + 1] + $2; n = s + 1} }

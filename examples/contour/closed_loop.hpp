@@ -48,6 +48,9 @@ struct Options {
   /// the controller's tunnel is rho - backoff [m]; < 0: the scalar's default (default_backoff)
   double backoff = -1;
   int qp_max_iter = 0;  ///< QP active-set iterations per QP (0: the library's default)
+  /// RTI: the feedback's QP stops after this many iterations and its step is taken anyway
+  /// (NmpcSettings::feedback_qp_iterations; status step_limited); 0: no bound
+  int feedback_qp_iter = 0;
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
@@ -257,6 +260,7 @@ class ContourLoop {
     set.shift_multipliers = options_.shift_multipliers;
     if (options_.qp_max_iter > 0)
       set.qp.max_iter = options_.qp_max_iter;
+    set.feedback_qp_iterations = options_.feedback_qp_iter;
     const auto keep = set;  // the first solve runs with the library's defaults
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());

@@ -12,7 +12,8 @@
 // the feedback phase (feedback(x)) after, and its control is applied. Checked at every sample:
 // status step_taken (prepared for the preparation), a finite control within the bounds; at one
 // sample the state is kicked after the preparation, and that sample's control reacts to it; after
-// 4 s the pendulum is upright.
+// 4 s the pendulum is upright. The same with the feedback's QP bounded to 2 iterations
+// (step_taken or step_limited, at most 2 QP iterations per sample).
 #include <cmath>
 
 #include "arbor/nmpc/controller.hpp"
@@ -58,13 +59,16 @@ Controller<S>& controller() {
   return ctrl;
 }
 
+/// The closed loop; bound > 0: the feedback's QP is bounded to that many iterations
+/// (NmpcSettings::feedback_qp_iterations; step_limited when it stops there).
 template <class S>
-void rti_closed_loop() {
+void rti_closed_loop(int bound = 0) {
   using Vu = typename Controller<S>::Vu;
   // the QP's primal tolerance (relative to 1 + |u|) and the rounding of u + du in S
   constexpr double tol_u = sizeof(S) == 8 ? 1e-7 : 1e-4 * (1 + Data::u_max);
   Controller<S>& ctrl = controller<S>();
   Eigen::Vector2d x(pi - offset, 0.0);  // the plant's state
+  ctrl.settings().feedback_qp_iterations = bound;
   arbor::test::NoAllocScope guard;
   ASSERT_EQ(ctrl.set_initial_guess(x.cast<S>(), Vu::Zero()), NmpcStatus::prepared);
   ASSERT_EQ(ctrl.feedback(x.cast<S>()), NmpcStatus::not_prepared);  // no preparation yet
@@ -76,7 +80,13 @@ void rti_closed_loop() {
     const double u_prepared = double(ctrl.control()[0]);  // the plan's u_0 before the feedback
     // the measurement arrives: the feedback phase alone gives the control
     const NmpcStatus fb = ctrl.feedback(x.cast<S>());
-    EXPECT_EQ(fb, NmpcStatus::step_taken) << " at sample " << k;
+    if (bound > 0) {
+      EXPECT_TRUE(fb == NmpcStatus::step_taken || fb == NmpcStatus::step_limited)
+          << fb << " at sample " << k;
+      EXPECT_LE(ctrl.info().qp_iterations, bound) << " at sample " << k;
+    } else {
+      EXPECT_EQ(fb, NmpcStatus::step_taken) << " at sample " << k;
+    }
     const double u = double(ctrl.control()[0]);
     ASSERT_TRUE(std::isfinite(u)) << " at sample " << k;
     EXPECT_LE(std::fabs(u), Data::u_max + tol_u) << " at sample " << k;
@@ -110,4 +120,13 @@ TEST(NmpcPortable, PendulumRtiClosedLoopDouble) {
 #endif
 TEST(NmpcPortable, PendulumRtiClosedLoopFloat) {
   rti_closed_loop<float>();
+}
+// the same with the feedback's QP bounded to 2 iterations (the NMPC's bounded feedback)
+#if !defined(ARBOR_BARE_METAL) || (defined(__ARM_FP) && (__ARM_FP & 8))
+TEST(NmpcPortable, PendulumRtiClosedLoopBoundedFeedbackDouble) {
+  rti_closed_loop<double>(2);
+}
+#endif
+TEST(NmpcPortable, PendulumRtiClosedLoopBoundedFeedbackFloat) {
+  rti_closed_loop<float>(2);
 }

@@ -9,10 +9,15 @@
 //     iteration cap of 1): qp_failed and the stale plan until the max_failed_samples-th
 //     consecutive failure, then the fallback: the relaxed QP (fallback_relaxed) or the stop law
 //     clipped to the input bounds (fallback_stop); stale_plan keeps failing. No allocation, the
-//     control finite in every case.
+//     control finite in every case;
+//   - a bound on the feedback's QP iterations (issue 38): step_limited, the swing-up still done.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -208,6 +213,62 @@ TEST(NmpcFallback, QpIterationCapEscalatesFromRelaxToStop) {
   ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
   EXPECT_EQ(ctrl.feedback(x), NmpcStatus::step_taken);
   EXPECT_EQ(ctrl.info().failed_samples, 0);
+}
+
+// Bounded feedback (NmpcSettings::feedback_qp_iterations): the pendulum balanced upright from
+// 0.2 rad off and pushed twice (0.8 rad/s), so that the torque saturates again and the QPs change
+// their working sets (up to 8 iterations per sample unbounded). With a bound of K = 2 and 3
+// iterations every feedback ends within K QP iterations; the samples the bound cut short return
+// step_limited with a control within |u| <= 3; and the closed loop (plant in plain code) is
+// upright and at rest 3 s in, as the unbounded loop is.
+TEST(NmpcBoundedFeedback, CutShortQpsStillBalanceAfterPushes) {
+  static const auto p = nmpc_test::pendulum_problem<N>();
+  static arbor::nmpc::Nmpc<std::remove_const_t<decltype(p)>> ctrl(p);
+  const double pi = std::numbers::pi;
+  constexpr double kPush = 0.8;        // [rad/s]
+  for (const int k_max : {0, 2, 3}) {  // 0: no bound (the reference run)
+    SCOPED_TRACE("feedback_qp_iterations " + std::to_string(k_max));
+    Eigen::Vector2d x(pi - 0.2, 0.0);  // 0.2 rad from upright: the torque saturates at first
+    ASSERT_EQ(ctrl.set_initial_guess(x, U1::Zero()), NmpcStatus::prepared);
+    ASSERT_EQ(ctrl.solve(x), NmpcStatus::converged);  // the plan of the first sample
+    ctrl.settings().feedback_qp_iterations = k_max;
+    int limited = 0, most = 0;
+    double late = 0;  // largest distance from upright (either way round) after 3 s
+    for (int t = 0; t < 100; ++t) {
+      ctrl.shift();
+      ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
+      NmpcStatus st;
+      {
+        arbor::test::NoAllocScope guard;
+        st = ctrl.feedback(x);
+      }
+      ASSERT_TRUE(st == NmpcStatus::step_taken || st == NmpcStatus::step_limited) << st;
+      EXPECT_TRUE(arbor::nmpc::succeeded(st));
+      most = std::max(most, ctrl.info().qp_iterations);
+      if (st == NmpcStatus::step_limited) {
+        ++limited;
+        EXPECT_EQ(ctrl.info().qp_status, QpStatus::iteration_limit);
+        EXPECT_GT(ctrl.info().qp_merit, 1.0);  // not solved, and said so
+      }
+      ASSERT_TRUE(ctrl.control().allFinite());
+      EXPECT_LE(std::fabs(ctrl.control()[0]), PendulumData::u_max);
+      x = plant_step(x, ctrl.control()[0]);
+      if (t == 10 || t == 30)
+        x[1] += t == 10 ? kPush : -kPush;  // pushes: the torque saturates again
+      if (t >= 60)
+        late = std::max(late, std::hypot(std::remainder(x[0] - pi, 2 * pi), x[1]));
+    }
+    if (k_max > 0) {
+      EXPECT_LE(most, k_max);
+      EXPECT_GT(limited, 0);  // the bound was applied (and reported)
+      std::printf("bound %d: %d samples step_limited\n", k_max, limited);
+    } else {
+      EXPECT_GT(most, 3);  // unbounded, some QPs need more than the bounds allow
+      std::printf("unbounded: at most %d QP iterations per sample\n", most);
+    }
+    EXPECT_LT(late, 0.05);  // upright and at rest at the end
+  }
+  ctrl.settings().feedback_qp_iterations = 0;
 }
 
 }  // namespace

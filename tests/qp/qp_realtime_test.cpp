@@ -2,6 +2,8 @@
 // changed data (and without the convexity check when convexity is assumed), per-stage views
 // against the stacked solution and the stage-wise KKT conditions written out here, shift()
 // against a hand-shifted solution, a shifted warm start against cold starts (iteration counts),
+// a solve cut short and resumed, the prefactorization of the preparation phase against a plain
+// update,
 // and the copy/reference rule of problem.hpp (copied vectors are seen after update(), referenced
 // matrices at the next solve()). References: the KKT residuals of qp_reference.hpp (dynamic
 // Eigen) and a second solver set up from scratch on a copy of the data.
@@ -249,6 +251,135 @@ TEST(QpRealtime, ShiftMovesTheSolutionOneStageEarlier) {
   EXPECT_EQ(Eigen::VectorXd(solver.state(N)), x.tail(NX));
   EXPECT_EQ(Eigen::VectorXd(solver.input(N - 2)), x.segment((N - 1) * NW + NX, NU));
   EXPECT_EQ(Eigen::VectorXd(solver.input(N - 1)), x.segment((N - 1) * NW + NX, NU));
+}
+
+// A solve cut short (QpSettings::last_iterate_at_cap, the NMPC's bounded feedback): every call
+// ends within max_iter iterations and returns its last iterate, so that calls resumed from it
+// (its point and multipliers) go on with the same method and reach the solution of a fresh cold
+// solve (with the best iterate by merit, a resumed solve may restart from an earlier point).
+TEST(QpRealtime, SolveCutShortAndResumedReachesTheFreshSolution) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  int cut = 0;  // solves that ended at the cap (the test must exercise it)
+  for (const int k_max : {2, 3}) {
+    for (unsigned seed = 1; seed <= 12; ++seed) {
+      SCOPED_TRACE("max_iter " + std::to_string(k_max) + " seed " + std::to_string(seed));
+      std::mt19937 rng(seed);
+      t::RandomOcpOptions opt;
+      opt.bound_width = 0.3;  // many active bounds and rows
+      opt.cost_scale = 10;
+      t::random_ocp(qp, rng, opt);
+      const Eigen::VectorXd ref = fresh_solution(qp);
+      auto set = solver.settings();
+      set.max_iter = k_max;
+      set.last_iterate_at_cap = true;
+      ASSERT_EQ(solver.setup(qp, set), QpStatus::accepted);
+      solver.cold_start();
+      QpStatus st = QpStatus::iteration_limit;
+      int calls = 0;
+      for (; calls < 100 && st != QpStatus::solved; ++calls) {
+        {
+          arbor::test::NoAllocScope guard;
+          st = solver.solve();
+        }
+        ASSERT_TRUE(st == QpStatus::solved || st == QpStatus::iteration_limit) << st;
+        EXPECT_LE(solver.info().iterations, k_max);
+        if (st != QpStatus::iteration_limit)
+          continue;
+        ++cut;
+      }
+      ASSERT_EQ(st, QpStatus::solved) << "after " << calls << " calls";
+      expect_kkt(qp, solver);
+      const t::Kkt kkt =
+          t::kkt_residuals(t::to_ref(qp), solver.x(), solver.lam_x(), solver.lam_a());
+      EXPECT_LE(max_diff(solver.x(), ref), 1e-6 * kkt.pscale);  // strictly convex: one minimiser
+    }
+  }
+  EXPECT_GT(cut, 24);  // every problem took more than one call
+}
+
+// prefactorize() (the NMPC's preparation phase): a warm start whose vectors change after it
+// (x_0's bounds moved, the gradient perturbed: a new measurement and relinearised costs) and are
+// read with update_vectors() gives bit for bit the solve of a plain update(), with the first
+// factorization's blocks not counted in the solve; a matrix change read with update() discards
+// it (the solve factorizes again and matches a fresh solve); update_vectors() checks the vectors.
+TEST(QpRealtime, PrefactorizationIsReusedOnlyForTheVectorsChange) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  int reused = 0;
+  for (unsigned seed = 1; seed <= 8; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(seed);
+    t::RandomOcpOptions opt;
+    opt.bound_width = 0.3;
+    opt.cost_scale = 10;
+    t::random_ocp(qp, rng, opt);
+    ASSERT_EQ(solver.setup(qp), QpStatus::accepted);
+    solver.cold_start();
+    ASSERT_EQ(solver.solve(), QpStatus::solved);
+    const Eigen::VectorXd x0 = solver.x(), lx0 = solver.lam_x(), la0 = solver.lam_a();
+    const auto saved = qp;
+    std::normal_distribution<double> nd(0.0, 0.05);
+    auto perturb_vectors = [&] {
+      qp.stage[0].lbx = saved.stage[0].lbx.array() + 0.01;  // a new x_0 (the bounds stay equal)
+      qp.stage[0].ubx = saved.stage[0].ubx.array() + 0.01;
+      for (auto& st : qp.stage)
+        for (int i = 0; i < NX; ++i)
+          st.q(i) += nd(rng);
+    };
+    // plain: update() after the change, then solve
+    std::mt19937 keep = rng;
+    perturb_vectors();
+    ASSERT_EQ(solver.update(), QpStatus::accepted);
+    QpStatus st_plain;
+    {
+      arbor::test::NoAllocScope guard;
+      st_plain = solver.solve();
+    }
+    const Eigen::VectorXd x_plain = solver.x();
+    const auto info_plain = solver.info();
+    // prefactorized: the same start, prefactorize() before the change, update_vectors() after
+    qp = saved;
+    rng = keep;
+    ASSERT_EQ(solver.update(), QpStatus::accepted);
+    solver.x() = x0;
+    solver.lam_x() = lx0;
+    solver.lam_a() = la0;
+    int pre;
+    QpStatus su, st_pre;
+    {
+      arbor::test::NoAllocScope guard;
+      pre = solver.prefactorize();
+      perturb_vectors();
+      su = solver.update_vectors();
+      st_pre = solver.solve();
+    }
+    ASSERT_EQ(su, QpStatus::accepted);
+    EXPECT_EQ(pre, N + 1);  // every stage block and the terminal one
+    EXPECT_EQ(st_pre, st_plain);
+    EXPECT_EQ(Eigen::VectorXd(solver.x()), x_plain);  // the same arithmetic: bit for bit
+    EXPECT_EQ(solver.info().iterations, info_plain.iterations);
+    EXPECT_EQ(solver.info().stages_factorized, info_plain.stages_factorized - pre);
+    reused += pre > 0;
+    // a matrix change discards it: update() reads it, the solve factorizes and is right
+    ASSERT_GE(solver.prefactorize(), 0);
+    qp.stage[2].Q += Eigen::Matrix<double, NX, NX>::Identity();
+    ASSERT_EQ(solver.update(), QpStatus::accepted);
+    const QpStatus stm = solver.solve();
+    ASSERT_EQ(stm, QpStatus::solved);
+    EXPECT_GE(solver.info().stages_factorized, N + 1);
+    expect_kkt(qp, solver);
+    const t::Kkt k = t::kkt_residuals(t::to_ref(qp), solver.x(), solver.lam_x(), solver.lam_a());
+    EXPECT_LE(max_diff(solver.x(), fresh_solution(qp)), 1e-6 * k.pscale);
+    // update_vectors() checks what it reads
+    qp.stage[1].r(0) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(solver.update_vectors(), QpStatus::non_finite);
+    EXPECT_EQ(solver.solve(), QpStatus::not_setup);
+    qp.stage[1].r(0) = 0;
+    qp.stage[1].lbu(0) = qp.stage[1].ubu(0) + 1;
+    EXPECT_EQ(solver.update_vectors(), QpStatus::invalid_bounds);
+  }
+  EXPECT_EQ(reused, 8);
 }
 
 /// Time-invariant OCP: two double integrators (positions, velocities; accelerations as inputs)

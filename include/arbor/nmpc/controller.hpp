@@ -40,7 +40,10 @@
 // workspaces their handles point to, one controller per workspace set).
 // Cost per SQP iteration: N path linearisations + the terminal one (ocp/linearize.hpp), one QP
 // update (vector copies and finiteness checks), one QP solve, and per line-search step N + 1
-// stage evaluations without derivatives.
+// stage evaluations without derivatives. In real-time iteration the QP's first factorization
+// belongs to the preparation (prepare() factorizes for the working set the feedback starts
+// from; feedback() re-reads the vectors and solves): the feedback is the QP's iterations only,
+// at most settings().feedback_qp_iterations of them (step_limited when that bound stops it).
 #pragma once
 
 #include <Eigen/Core>
@@ -270,6 +273,11 @@ class Nmpc {
       return lin;
     embed(x_[0]);  // the residuals as if the measurement equalled the prediction
     record_kkt();
+    // the QP's matrices are final: its first factorization (for the working set the multipliers
+    // name, which the feedback starts from) runs now, before the measurement; the feedback
+    // re-reads only the vectors (qp::OcpQpSolver::update_vectors, prefactorize)
+    if (update_qp() == qp::QpStatus::accepted)
+      vectors_only_ = solver_.prefactorize() >= 0;
     prepared_ = true;
     return NmpcStatus::prepared;
   }
@@ -287,7 +295,11 @@ class Nmpc {
     const bool recovering = relax_violated_bounds(x0);
     info_.iterations = 0;
     info_.qp_iterations = 0;
+    // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
+    // the bound is a step too
+    qp_cap_ = settings_.feedback_qp_iterations;
     const NmpcStatus qs = solve_qp();
+    qp_cap_ = 0;
     if (qs == NmpcStatus::qp_failed)
       return after_qp_failure(x0);
     if (qs != NmpcStatus::step_taken)
@@ -295,6 +307,19 @@ class Nmpc {
     failed_samples_ = 0;
     info_.failed_samples = 0;
     (void)take_step(Scalar(1));
+    if (limited_) {
+      // the iterate of an unfinished QP: its dynamics hold (the Riccati solve meets them
+      // exactly), the inputs outside the working set may lie beyond their bounds: clipped, and
+      // x_0 is the measurement (the QP may have stopped short of it)
+      for (int k = 0; k < N; ++k) {
+        auto& wk = w_[std::size_t(k)];
+        wk.template head<nu>() =
+            wk.template head<nu>().cwiseMax(lbu_[std::size_t(k)]).cwiseMin(ubu_[std::size_t(k)]);
+        wk.template tail<ns>() = wk.template tail<ns>().cwiseMax(Scalar(0));
+      }
+      x_[0] = x0;
+      return NmpcStatus::step_limited;
+    }
     return recovering ? NmpcStatus::recovering : NmpcStatus::step_taken;
   }
 
@@ -329,6 +354,7 @@ class Nmpc {
   template <ocp::HessianKind K>
   [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
+    vectors_only_ = false;  // new matrices: the QP reads everything again
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
@@ -505,8 +531,8 @@ class Nmpc {
   auto& lam_rows() { return solver_.lam_a(); }
   const auto& lam_rows() const { return solver_.lam_a(); }
 
-  /// QP update (setup when the settings changed) and warm-started solve; the QP's status.
-  qp::QpStatus solve_prepared_qp() {
+  /// QP update (setup when the settings changed); the QP's status.
+  qp::QpStatus update_qp() {
     qp::QpStatus st;
     if (!qp_setup_ || applied_qp_ != settings_.qp) {
       st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
@@ -515,8 +541,21 @@ class Nmpc {
     } else {
       st = solver_.update(qp::Convexity::assumed);
     }
+    return st;
+  }
+
+  /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve;
+  /// the QP's status.
+  qp::QpStatus solve_prepared_qp() {
+    const bool vectors = vectors_only_ && qp_setup_ && applied_qp_ == settings_.qp;
+    vectors_only_ = false;
+    const qp::QpStatus st = vectors ? solver_.update_vectors() : update_qp();
     if (st != qp::QpStatus::accepted)
       return st;
+    // the feedback's bound on the QP's iterations, else the settings' cap
+    const int cap = settings_.qp.max_iter;
+    solver_.settings().max_iter = qp_cap_ > 0 && qp_cap_ < cap ? qp_cap_ : cap;
+    solver_.settings().last_iterate_at_cap = qp_cap_ > 0;  // a bounded feedback's progress
     solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
   }
@@ -528,7 +567,11 @@ class Nmpc {
     ++info_.iterations;
     // a stall (or the cap) at the scalar's round-off floor, near the tolerances: the step is
     // usable (settings.hpp, accept_stalled_qp)
-    const bool usable = st == qp::QpStatus::solved ||
+    info_.qp_merit = solver_.info().merit;
+    // stopped by the feedback's bound (feedback_qp_iterations), not by the settings' cap
+    limited_ = st == qp::QpStatus::iteration_limit && qp_cap_ > 0 &&
+               solver_.settings().max_iter == qp_cap_;
+    const bool usable = st == qp::QpStatus::solved || limited_ ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
                          solver_.info().merit <= settings_.accept_stalled_qp);
     if (!usable || !solver_.x().allFinite() || !lam_bounds().allFinite() ||
@@ -642,6 +685,9 @@ class Nmpc {
   StopLaw stop_law_ = nullptr;  ///< the fallback's stop law (set_stop_law)
   void* stop_user_ = nullptr;   ///< its user pointer
   int failed_samples_ = 0;      ///< consecutive calls whose QP failed
+  int qp_cap_ = 0;              ///< feedback(): the bound on the QP's iterations (0: none)
+  bool limited_ = false;        ///< the last QP stopped at that bound
+  bool vectors_only_ = false;   ///< prepare() set up and prefactorized the QP: read its vectors
 };
 
 }  // namespace arbor::nmpc

@@ -94,6 +94,18 @@ struct NmpcSettings {
   /// stale plan); such a step is as good as the QP can make it in float. Double's default, 0,
   /// never takes an unsolved QP (its tolerances sit far above its round-off floor).
   Scalar accept_stalled_qp = Scalar(single ? 100 : 0);
+  /// A bound on the work of feedback(): its QP stops after this many active-set iterations
+  /// (0: no bound but qp.max_iter). Each iteration is one linear solve and at most one
+  /// working-set change (a rank-one sweep of the factor, at worst a refactorization of the
+  /// stages before the change); the first factorization ran in prepare(): the feedback's cost
+  /// has a bound known before it runs. Use >= 2: a warm start's first iteration changes no
+  /// constraint (qp/active_set.hpp), so 1 follows the previous working set forever. A QP stopped there gives its last (best) iterate as the step: the
+  /// dynamics hold, the inputs are clipped to their bounds, x_0 is the measurement, and the
+  /// call returns step_limited (info().qp_merit: how far from solved; other constraints of the
+  /// plan may be violated until a later sample's QP, which starts from this working set,
+  /// finishes). The exact-Hessian controller's Gauss-Newton fallback solves a second QP under
+  /// the same bound. solve() is not bounded by it.
+  int feedback_qp_iterations = 0;
 };
 
 }  // namespace arbor::nmpc

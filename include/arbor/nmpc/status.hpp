@@ -28,6 +28,11 @@ enum class NmpcStatus : unsigned char {
   /// the QP kept failing: control() is the user's stop law (Nmpc::set_stop_law) clipped to the
   /// input bounds
   fallback_stop,
+  /// feedback(): the QP stopped at the user's bound on its iterations
+  /// (NmpcSettings::feedback_qp_iterations) before it was solved; its last iterate's step was
+  /// taken (dynamics held, inputs clipped to their bounds); info().qp_merit says how far from
+  /// solved it was. The next sample's QP continues from its working set.
+  step_limited,
 };
 
 /// Name of a status, for logs and test messages.
@@ -57,15 +62,18 @@ constexpr const char* to_string(NmpcStatus s) {
       return "fallback_relaxed";
     case NmpcStatus::fallback_stop:
       return "fallback_stop";
+    case NmpcStatus::step_limited:
+      return "step_limited";
   }
   return "unknown";
 }
 
 /// True when the status means the plan was updated as requested (recovering included: the
-/// request was met as well as the measured state allows).
+/// request was met as well as the measured state allows; step_limited too: the step the user's
+/// bound on the work allowed).
 constexpr bool succeeded(NmpcStatus s) {
   return s == NmpcStatus::converged || s == NmpcStatus::step_taken || s == NmpcStatus::prepared ||
-         s == NmpcStatus::recovering;
+         s == NmpcStatus::recovering || s == NmpcStatus::step_limited;
 }
 
 /// True when control() comes from a fallback (the QP kept failing).
@@ -90,6 +98,8 @@ struct NmpcInfo {
   int hessian_fallbacks = 0;   ///< exact Hessian: iterations redone with Gauss-Newton
   Scalar state_violation = 0;  ///< max violation of a state bound by the measured x0
   int failed_samples = 0;      ///< consecutive calls whose QP failed, this one included
+  /// qp::SolveInfo::merit of the last QP: its largest residual / tolerance (<= 1: solved)
+  Scalar qp_merit = 0;
 };
 
 }  // namespace arbor::nmpc

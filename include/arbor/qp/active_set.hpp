@@ -84,8 +84,8 @@
 //   (largest residual / tolerance) does not fall by 10 % give `stalled`: the rule has nothing
 //   left to change although the test fails (tolerances below the round-off floor, or mutually
 //   inconsistent ones). `stalled` and the iteration cap return the best iterate seen, with its
-//   residuals.
-// Memory of this part: about 12 NV + 9 NA scalars and NV + NA bytes. Cost per iteration: O(NV +
+//   residuals (the cap: the last one with QpSettings::last_iterate_at_cap).
+// Memory of this part: about 12 NV + 9 NA scalars and 2 (NV + NA) bytes. Cost per iteration: O(NV +
 // NA) here plus one backend solve (and one product with A' while the iterate is infeasible, for
 // the certificate), and a (partial) refactorization after a working-set change.
 // Products: evaluate() needs A x, H x and H x + g + lam_x + A' lam. After a step that a
@@ -143,6 +143,28 @@ class ActiveSetCore {
     lam_x.setZero();
     lam_a.setZero();
   }
+
+  /// Factorizes now what the next solve() factorizes first: the matrix of the working set the
+  /// current multipliers name (for the NMPC's preparation phase, before the measurement). The
+  /// next solve() skips that factorization when it starts from the same working set with the
+  /// same weights; the caller guarantees that the matrices did not change in between (bounds
+  /// and gradients may: they do not enter the factorization). Returns whether it will be
+  /// reused (false after a pivot failure, which solve() handles as usual); stages counts the
+  /// blocks factorized.
+  template <ActiveSetBackend<Scalar, NV, NA> Backend>
+  bool prefactorize(Backend& be, const QpSettings<Scalar>& s, int& stages) {
+    prefactored_ = false;
+    begin(be, s);
+    SolveInfo<Scalar> info{};
+    const bool ok = refactorize(be, s, info) && delta_ == s.reg_primal;
+    stages = info.stages_factorized;
+    prefactored_ = ok;
+    pre_ws_ = ws;
+    pre_w_ = w_;
+    return ok;
+  }
+  /// Forgets a prefactorization (the matrices changed).
+  void discard_prefactorization() { prefactored_ = false; }
 
   /// Runs the method from the current (x, lam); fills info; returns the status.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
@@ -333,20 +355,23 @@ class ActiveSetCore {
   bool farkas_pending_ = false;  ///< the last step's certificate test is still to be made
   int since_exact_ = 0;          ///< steps since the products were last computed from scratch
 
-  VecA za_;          ///< A x
-  VecV hx_;          ///< H x
-  VecV r_;           ///< stationarity residual
-  VecV dx_;          ///< primal step (also the right-hand side)
-  VecA dza_;         ///< A dx
-  VecV dlam_x_;      ///< bound-multiplier step
-  VecA dlam_a_;      ///< row-multiplier step
-  VecA tmpa_;        ///< row workspace
-  VecA wa_;          ///< regularisation weight of each row, h / (eps |a_j|^2)
-  VecA rn_;          ///< row norms |a_j| (1 for a zero row)
-  VecV tmpv_;        ///< variable workspace (certificates)
-  VecV best_x_;      ///< best iterate so far
-  VecV best_lam_x_;  ///< its bound multipliers
-  VecA best_lam_a_;  ///< its row multipliers
+  VecA za_;                   ///< A x
+  VecV hx_;                   ///< H x
+  VecV r_;                    ///< stationarity residual
+  VecV dx_;                   ///< primal step (also the right-hand side)
+  VecA dza_;                  ///< A dx
+  VecV dlam_x_;               ///< bound-multiplier step
+  VecA dlam_a_;               ///< row-multiplier step
+  VecA tmpa_;                 ///< row workspace
+  VecA wa_;                   ///< regularisation weight of each row, h / (eps |a_j|^2)
+  VecA rn_;                   ///< row norms |a_j| (1 for a zero row)
+  VecV tmpv_;                 ///< variable workspace (certificates)
+  VecV best_x_;               ///< best iterate so far
+  VecV best_lam_x_;           ///< its bound multipliers
+  VecA best_lam_a_;           ///< its row multipliers
+  bool prefactored_ = false;  ///< prefactorize() left a factorization to reuse
+  std::array<ConstraintState, nz> pre_ws_{};  ///< the working set it factorized
+  Scalar pre_w_ = 0;                          ///< the bound weight it used
 };
 
 template <typename Scalar, int NV, int NA>
@@ -382,8 +407,14 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
     rn_(j) = wa_(j) > 0 ? std::sqrt(wa_(j)) : Scalar(1);
     wa_(j) = wa_(j) > 0 ? w_ / wa_(j) : w_;
   }
-  refactor_ = true;
-  be.mark_all();
+  // a prefactorization (prefactorize()) of this very working set and weights is reused once
+  if (prefactored_ && delta_ == s.reg_primal && w_ == pre_w_ && ws == pre_ws_) {
+    refactor_ = false;
+  } else {
+    refactor_ = true;
+    be.mark_all();
+  }
+  prefactored_ = false;
   pending_ = -1;
   pending_ws_ = State::inactive;
   best_ = inf();
@@ -940,8 +971,9 @@ template <typename Scalar, int NV, int NA>
 template <typename Backend>
 QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettings<Scalar>& s,
                                                SolveInfo<Scalar>& info, QpStatus status) {
+  const bool keep_last = status == QpStatus::iteration_limit && s.last_iterate_at_cap;
   if (status != QpStatus::solved && status != QpStatus::infeasible &&
-      status != QpStatus::unbounded && have_best_) {  // iteration_limit, stalled, ...
+      status != QpStatus::unbounded && have_best_ && !keep_last) {  // iteration_limit, stalled
     x = best_x_;
     lam_x = best_lam_x_;
     lam_a = best_lam_a_;

@@ -95,6 +95,22 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return this->conclude(read_terminal(p->terminal, check));
   }
 
+  /// Re-reads only the vectors of every stage (bounds, gradients, dynamics offsets; checked:
+  /// finite, bounds ordered) and keeps the matrices as the last setup()/update() read them, and
+  /// a prefactorization (prefactorize()): for what changes between the preparation and the
+  /// feedback of real-time iteration (the embedded x_0). Returns accepted or the vectors' status.
+  [[nodiscard]] QpStatus update_vectors() {
+    const Problem* p = this->be_.p;
+    if (p == nullptr)
+      return this->conclude(QpStatus::not_setup);
+    for (int k = 0; k < N; ++k) {
+      const QpStatus st = read_vectors(k, p->stage[k]);
+      if (st != QpStatus::accepted)
+        return this->conclude(st);
+    }
+    return this->conclude(read_terminal_vectors(p->terminal), true);
+  }
+
   /// Moves the primal and dual solution one stage earlier, for the warm start of the next
   /// sample: stage k receives what stage k+1 held (x_k, u_k, the multipliers of their bounds,
   /// of the dynamics row dyn_k and of gen_k). The last stage repeats: x_N, u_{N-1}, their bound
@@ -165,13 +181,10 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
  private:
   /// Checks path stage k and copies its vectors into the flat arrays.
   QpStatus read_stage(int k, const typename Problem::Stage& st, bool check_convexity) {
-    if (!detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D))
+    if (!detail::all_finite(st.Q, st.S, st.R, st.A, st.B, st.C, st.D))
       return QpStatus::non_finite;
-    for (QpStatus c : {detail::check_bounds(st.lbx, st.ubx), detail::check_bounds(st.lbu, st.ubu),
-                       detail::check_bounds(st.lg, st.ug)}) {
-      if (c != QpStatus::accepted)
-        return c;
-    }
+    if (const QpStatus v = check_vectors(st); v != QpStatus::accepted)
+      return v;
     if (check_convexity) {
       Eigen::Matrix<Scalar, NX + NU, NX + NU> h;
       h.template topLeftCorner<NX, NX>() = st.Q;
@@ -181,6 +194,32 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
       if (!detail::is_psd(h, this->settings_.psd_tolerance))
         return QpStatus::non_convex;
     }
+    copy_vectors(k, st);
+    return QpStatus::accepted;
+  }
+
+  /// Checks path stage k's vectors (finite, bounds ordered) and copies them.
+  QpStatus read_vectors(int k, const typename Problem::Stage& st) {
+    const QpStatus v = check_vectors(st);
+    if (v == QpStatus::accepted)
+      copy_vectors(k, st);
+    return v;
+  }
+
+  /// Whether a path stage's vectors are finite (bounds may be infinite) and its bounds ordered.
+  static QpStatus check_vectors(const typename Problem::Stage& st) {
+    if (!detail::all_finite(st.q, st.r, st.b))
+      return QpStatus::non_finite;
+    for (QpStatus c : {detail::check_bounds(st.lbx, st.ubx), detail::check_bounds(st.lbu, st.ubu),
+                       detail::check_bounds(st.lg, st.ug)}) {
+      if (c != QpStatus::accepted)
+        return c;
+    }
+    return QpStatus::accepted;
+  }
+
+  /// Copies path stage k's vectors into the flat arrays.
+  void copy_vectors(int k, const typename Problem::Stage& st) {
     auto& c = this->core_;
     const int o = Problem::state_offset(k), r = Problem::dynamics_offset(k);
     c.lbx.template segment<NX>(o) = st.lbx;
@@ -193,26 +232,46 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     c.uba.template segment<NX>(r) = st.b;
     c.lba.template segment<NG>(r + NX) = st.lg;
     c.uba.template segment<NG>(r + NX) = st.ug;
-    return QpStatus::accepted;
   }
 
   /// Checks the terminal stage and copies its vectors into the flat arrays.
   QpStatus read_terminal(const typename Problem::Terminal& t, bool check_convexity) {
-    if (!detail::all_finite(t.Q, t.q, t.C))
+    if (!detail::all_finite(t.Q, t.C))
       return QpStatus::non_finite;
-    for (QpStatus c : {detail::check_bounds(t.lbx, t.ubx), detail::check_bounds(t.lg, t.ug)}) {
-      if (c != QpStatus::accepted)
-        return c;
-    }
+    if (const QpStatus v = check_terminal_vectors(t); v != QpStatus::accepted)
+      return v;
     if (check_convexity && !detail::is_psd(t.Q, this->settings_.psd_tolerance))
       return QpStatus::non_convex;
+    copy_terminal_vectors(t);
+    return QpStatus::accepted;
+  }
+
+  /// Checks the terminal stage's vectors and copies them.
+  QpStatus read_terminal_vectors(const typename Problem::Terminal& t) {
+    const QpStatus v = check_terminal_vectors(t);
+    if (v == QpStatus::accepted)
+      copy_terminal_vectors(t);
+    return v;
+  }
+
+  /// Whether the terminal vectors are finite and its bounds ordered.
+  static QpStatus check_terminal_vectors(const typename Problem::Terminal& t) {
+    if (!detail::all_finite(t.q))
+      return QpStatus::non_finite;
+    for (QpStatus c : {detail::check_bounds(t.lbx, t.ubx), detail::check_bounds(t.lg, t.ug)})
+      if (c != QpStatus::accepted)
+        return c;
+    return QpStatus::accepted;
+  }
+
+  /// Copies the terminal vectors into the flat arrays.
+  void copy_terminal_vectors(const typename Problem::Terminal& t) {
     auto& c = this->core_;
     c.lbx.template tail<NX>() = t.lbx;
     c.ubx.template tail<NX>() = t.ubx;
     c.g.template tail<NX>() = t.q;
     c.lba.template tail<NGN>() = t.lg;
     c.uba.template tail<NGN>() = t.ug;
-    return QpStatus::accepted;
   }
 };
 

@@ -60,6 +60,9 @@ struct QpSettings<double> {
   double tol_certificate = 1e-6;  ///< relative tolerance of infeasibility/unboundedness tests
   double psd_tolerance = 1e-10;   ///< relative eigenvalue slack of the convexity check
   bool relative_regularisation = false;  ///< weights h / reg_dual (scale-invariant; see above)
+  /// At max_iter, return the last iterate (the progress of a solve cut short, e.g. the NMPC's
+  /// bounded feedback) instead of the best seen by merit (which may be the starting point)
+  bool last_iterate_at_cap = false;
   /// Field by field (not the padding bytes).
   friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };
@@ -77,6 +80,9 @@ struct QpSettings<float> {
   float tol_certificate = 1e-3f;  ///< relative tolerance of infeasibility/unboundedness tests
   float psd_tolerance = 1e-5f;    ///< relative eigenvalue slack of the convexity check
   bool relative_regularisation = false;  ///< weights h / reg_dual (scale-invariant; see above)
+  /// At max_iter, return the last iterate (the progress of a solve cut short, e.g. the NMPC's
+  /// bounded feedback) instead of the best seen by merit (which may be the starting point)
+  bool last_iterate_at_cap = false;
   /// Field by field (not the padding bytes).
   friend bool operator==(const QpSettings&, const QpSettings&) = default;
 };

@@ -39,6 +39,20 @@ class ActiveSetSolver {
     return core_.solve(be_, settings_, info_);
   }
 
+  /// Factorizes now, for the working set the current multipliers name, what the next solve()
+  /// would factorize first; that solve() then starts with its first linear solve (its
+  /// info().stages_factorized excludes these blocks). For real-time iteration: call it in the
+  /// preparation phase, after the last change of the matrices; the feedback may change bounds
+  /// and gradients (update_vectors() of the OCP solver keeps the factorization; setup() and
+  /// update() discard it). Returns the number of blocks factorized, or -1 when nothing will be
+  /// reused (not set up, or a pivot failure: solve() then factorizes as usual).
+  int prefactorize() {
+    if (!ready_)
+      return -1;
+    int stages = 0;
+    return core_.prefactorize(be_, settings_, stages) ? stages : -1;
+  }
+
   /// Flat primal iterate / solution (writable: a warm start).
   VecV& x() { return core_.x; }
   const VecV& x() const { return core_.x; }
@@ -56,8 +70,11 @@ class ActiveSetSolver {
 
  protected:
   /// Ends a setup()/update(): the solver is ready exactly when st is accepted; the iterate is
-  /// cold-started the first time, kept (warm start) afterwards.
-  QpStatus conclude(QpStatus st) {
+  /// cold-started the first time, kept (warm start) afterwards; a prefactorization is discarded
+  /// unless only vectors were read (keep_factorization).
+  QpStatus conclude(QpStatus st, bool keep_factorization = false) {
+    if (!keep_factorization)
+      core_.discard_prefactorization();
     ready_ = st == QpStatus::accepted;
     if (ready_ && !initialized_)
       cold_start();
