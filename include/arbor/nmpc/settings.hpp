@@ -99,10 +99,11 @@ struct NmpcSettings {
   /// working-set change (a rank-one sweep of the factor, at worst a refactorization of the
   /// stages before the change); the first factorization ran in prepare(): the feedback's cost
   /// has a bound known before it runs. Use >= 2: a warm start's first iteration changes no
-  /// constraint (qp/active_set.hpp), so 1 follows the previous working set forever. A QP stopped there gives its last (best) iterate as the step: the
-  /// dynamics hold, the inputs are clipped to their bounds, x_0 is the measurement, and the
-  /// call returns step_limited (info().qp_merit: how far from solved; other constraints of the
-  /// plan may be violated until a later sample's QP, which starts from this working set,
+  /// constraint (qp/active_set.hpp), so 1 follows the previous working set forever. A QP
+  /// stopped there gives its last iterate as the step (qp::QpSettings::last_iterate_at_cap):
+  /// the dynamics are the QP's, the inputs are clipped to their bounds, x_0 is the measurement,
+  /// and the call returns step_limited (info().qp_merit: how far from solved; other constraints
+  /// of the plan may be violated until a later sample's QP, which starts from this working set,
   /// finishes). The exact-Hessian controller's Gauss-Newton fallback solves a second QP under
   /// the same bound. solve() is not bounded by it.
   int feedback_qp_iterations = 0;
