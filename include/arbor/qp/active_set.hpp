@@ -249,6 +249,8 @@ class ActiveSetCore {
   /// Repairs a non-finite iterate, builds the working set and the row weights, resets the loop.
   template <typename Backend>
   void begin(Backend& be, const QpSettings<Scalar>& s);
+  /// The iteration loop's state at the start of a solve (counters, memories, pending change).
+  void reset_loop();
   /// Working set from the multipliers' signs; zeroes multipliers that cannot be active.
   void working_set_from_multipliers();
   /// The scalar residuals below from z = A x, hx = H x and r = H x + g + lam_x + A' lam: with
@@ -400,6 +402,14 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   if (!(h_ > 0) || !std::isfinite(h_))
     h_ = Scalar(1);
   w_ = h_ / s.reg_dual;
+  // a prefactorization (prefactorize()) of this very working set and weights is reused once,
+  // with the row weights it computed (same matrices: same norms)
+  const bool reuse = prefactored_ && w_ == pre_w_ && ws == pre_ws_;
+  prefactored_ = false;
+  refactor_ = !reuse;
+  if (reuse)
+    return reset_loop();
+  be.mark_all();
   // row weights h / (eps |a_j|^2): the regularisation acts on normalised rows, so rows with
   // small coefficients (a linearised path constraint) converge as fast as bounds
   be.row_norms_sq(wa_);
@@ -407,14 +417,11 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
     rn_(j) = wa_(j) > 0 ? std::sqrt(wa_(j)) : Scalar(1);
     wa_(j) = wa_(j) > 0 ? w_ / wa_(j) : w_;
   }
-  // a prefactorization (prefactorize()) of this very working set and weights is reused once
-  if (prefactored_ && delta_ == s.reg_primal && w_ == pre_w_ && ws == pre_ws_) {
-    refactor_ = false;
-  } else {
-    refactor_ = true;
-    be.mark_all();
-  }
-  prefactored_ = false;
+  reset_loop();
+}
+
+template <typename Scalar, int NV, int NA>
+void ActiveSetCore<Scalar, NV, NA>::reset_loop() {
   pending_ = -1;
   pending_ws_ = State::inactive;
   best_ = inf();
