@@ -9,6 +9,8 @@
 # (bench/targets/contour_firmware.cpp). Writes bench/nmpc/RESULTS-targets.md (or $1).
 # Build folders: $BUILD_DIR (host, default build-contour-bench) and <it>-cortex-m7/-cortex-m4f.
 # About 20 minutes of compiler time on 2 cores (twelve controller translation units, ~2 GB each).
+# FEEDBACK_ITER=K: the closed loops' feedback bounded to K QP iterations (issue 38;
+# ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/bench/nmpc/RESULTS-targets.md}"
@@ -21,7 +23,8 @@ tests="contour_target_fd_double_test contour_target_id_double_test contour_targe
 echo "== host"
 # -O3 like the targets (hosted tests default to -O1 for compile time: ARBOR_TEST_OPTIMIZATION).
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_TESTS=ON \
-  -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_TEST_OPTIMIZATION= >/dev/null
+  -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_TEST_OPTIMIZATION= \
+  -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$host" -j2 --target $tests
 for t in $tests; do
@@ -36,7 +39,8 @@ for t in cortex-m7 cortex-m4f; do
   b="$host-$t"
   cmake -S "$root" -B "$b" --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$host" \
-    -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON >/dev/null
+    -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON \
+    -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" >/dev/null
   loop_forms="fd id"  # closed loops run on this target
   loops=""
   for form in $loop_forms; do loops="$loops contour_target_${form}_${scalar}_test"; done

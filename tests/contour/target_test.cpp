@@ -78,9 +78,13 @@ constexpr const char* kUnit = "us";
 #endif
 
 using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, Scalar, Timer>;
+#ifndef CONTOUR_FEEDBACK_ITER
+#define CONTOUR_FEEDBACK_ITER 0
+#endif
 Options make_options() {
   Options o;
   o.max_samples = kSamples;
+  o.feedback_qp_iter = CONTOUR_FEEDBACK_ITER;  // (the build's ARBOR_CONTOUR_FEEDBACK_ITER)
   return o;
 }
 Loop g_loop(make_options());  // ~320 KB in double: static storage, not the stack
