@@ -553,9 +553,9 @@ class Nmpc {
     if (st != qp::QpStatus::accepted)
       return st;
     // the feedback's bound on the QP's iterations, else the settings' cap
-    const int cap = settings_.qp.max_iter;
-    solver_.settings().max_iter = qp_cap_ > 0 && qp_cap_ < cap ? qp_cap_ : cap;
-    solver_.settings().last_iterate_at_cap = qp_cap_ > 0;  // a bounded feedback's progress
+    const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
+    solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
+    solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
     solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
   }
@@ -569,8 +569,7 @@ class Nmpc {
     // usable (settings.hpp, accept_stalled_qp)
     info_.qp_merit = solver_.info().merit;
     // stopped by the feedback's bound (feedback_qp_iterations), not by the settings' cap
-    limited_ = st == qp::QpStatus::iteration_limit && qp_cap_ > 0 &&
-               solver_.settings().max_iter == qp_cap_;
+    limited_ = st == qp::QpStatus::iteration_limit && solver_.settings().last_iterate_at_cap;
     const bool usable = st == qp::QpStatus::solved || limited_ ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
                          solver_.info().merit <= settings_.accept_stalled_qp);
