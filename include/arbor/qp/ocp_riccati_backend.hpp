@@ -101,6 +101,10 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
   std::array<std::int8_t, NZ> in_factor{};  ///< 1: constraint i is active in the factor
   Scalar w_ = 0;                            ///< bound weight of the factor
   Scalar delta_ = 0;                        ///< delta of the factor
+  /// Per-variable weights added to the diagonal of every stage block (NV entries, flat layout;
+  /// nullptr: none), on top of delta and w: the barrier curvature of the interior-point cold
+  /// start (ocp_interior_point.hpp). While set, every factorize() is a full one.
+  const Scalar* diag_weights = nullptr;
 
   /// The rows solved exactly: the dynamics rows dyn_k, k < N.
   static constexpr bool exact_row(int j) { return j < N * NR && j % NR < NX; }
@@ -126,7 +130,8 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
 
   int factorize(const ConstraintState* ws, Scalar delta, Scalar w, const VecA& wa) {
     updates_last = 0;
-    if (dirty_to < N && (delta != delta_ || w != w_ || updates >= max_updates))
+    if (dirty_to < N &&
+        (delta != delta_ || w != w_ || updates >= max_updates || diag_weights != nullptr))
       dirty_to = N;
     if (dirty_to == N) {
       n_pending = 0;
@@ -593,6 +598,13 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       d(NU + i, NU + i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0));
     for (int i = 0; i < NU; ++i)
       d(i, i) += delta + (wsb[NX + i] != ConstraintState::inactive ? w : Scalar(0));
+    if (diag_weights != nullptr) {
+      const Scalar* dw = diag_weights + k * NW;
+      for (int i = 0; i < NX; ++i)
+        d(NU + i, NU + i) += dw[i];
+      for (int i = 0; i < NU; ++i)
+        d(i, i) += dw[NX + i];
+    }
     if constexpr (NG > 0) {
       // + sum over the active path rows of w_j a_j a_j': one product of the register-blocked
       // kernel (a_j and w_j a_j as columns) instead of a rank-one loop per row
@@ -653,7 +665,8 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
     MatX d = t.Q;
     const ConstraintState* wsb = ws + N * NW;
     for (int i = 0; i < NX; ++i)
-      d(i, i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0));
+      d(i, i) += delta + (wsb[i] != ConstraintState::inactive ? w : Scalar(0)) +
+                 (diag_weights != nullptr ? diag_weights[N * NW + i] : Scalar(0));
     const int rg = N * NR;
     for (int j = 0; j < NGN; ++j) {
       if (ws[NV + rg + j] == ConstraintState::inactive)

@@ -22,6 +22,8 @@
 // a weight per constraint from its own curvature would serve both (docs/qp.md).
 #pragma once
 
+#include <type_traits>
+
 namespace arbor::qp {
 
 /// Whether setup()/update() verify that the Hessian (each stage block of an OcpQp) is positive
@@ -85,6 +87,23 @@ struct QpSettings<float> {
   bool last_iterate_at_cap = false;
   /// Field by field (not the padding bytes).
   friend bool operator==(const QpSettings&, const QpSettings&) = default;
+};
+
+/// Settings of the interior-point cold start (OcpInteriorPoint, ocp_interior_point.hpp). For a
+/// crossover the interior point need not be accurate: the active set finishes; tol decides how
+/// close to the end of the central path the guess is taken.
+template <typename Scalar>
+struct IpmSettings {
+  int max_iter = 30;  ///< interior-point iterations at most
+  /// converged: residuals <= tol (1 + data scale) and mean complementarity <= tol
+  Scalar tol = std::is_same_v<Scalar, float> ? Scalar(1e-4) : Scalar(1e-8);
+  /// smallest initial slack; initial multipliers (1: on the Kinova-sized benchmark QPs 13 / 22
+  /// iterations (FD / ID), 10: 11 / 14, but more on the random test problems and a float FD
+  /// crossover 4x longer)
+  Scalar init = Scalar(1);
+  Scalar boundary = Scalar(0.995);  ///< fraction to the boundary of each step
+  /// proximal term on every free variable (keeps R + B' P B definite when H is only PSD)
+  Scalar reg = std::is_same_v<Scalar, float> ? Scalar(1e-6) : Scalar(1e-10);
 };
 
 }  // namespace arbor::qp

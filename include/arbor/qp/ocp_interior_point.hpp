@@ -1,0 +1,546 @@
+// arbor::qp: a primal-dual interior-point method for the optimal-control QP (OcpQp in
+// problem.hpp), the cold start of the active-set OcpQpSolver: every iteration moves all
+// constraints at once (the active set changes one per iteration), so a few interior-point
+// iterations and a crossover (the working set guessed from the interior point's slacks and
+// multipliers, handed to the active-set solver as a warm start) replace the ~100 one-change
+// iterations of an active-set cold start.
+//
+//   static OcpInteriorPoint<Qp> ipm;          // workspace (static storage: no heap)
+//   IpmStatus s = ipm.solve(qp);               // interior-point iterations from x = 0
+//   ipm.warm_start(solver);                    // x, lam_x, lam_a of an OcpQpSolver set up on qp
+//   QpStatus st = solver.solve();              // the active set finishes (exact KKT point)
+//   or, in one call: cold_solve(solver, ipm, qp).
+//
+// Method (Mehrotra's predictor-corrector on the slack form): every finite side of a variable
+// bound or a path row is an inequality with a slack and a multiplier (z - lb = s_l >= 0 with
+// lam >= 0, ub - z = s_u >= 0 with mu >= 0); the dynamics rows are equalities with costates nu;
+// x_0 (lbx_0 == ubx_0) is fixed. Eliminating slacks and multipliers leaves, per iteration, an
+// equality-constrained OCP with the stage Hessians [Q S'; S R] + diag(lam/s_l + mu/s_u) on the
+// bounds + [C D]' diag(.) [C D] on the rows (+ reg I): the matrix the active-set solver factorizes
+// for a working set, with a weight on every variable. So the active set's own Riccati backend
+// (ocp_riccati_backend.hpp: square-root recursion, packed kernels) factorizes it
+// (OcpRiccatiBackend::diag_weights: the bounds' weights; every path row in its working set with
+// its weight; x_0 an exact bound), and its solve_exact() gives the step and the costates; the
+// predictor and the corrector share the factorization. Infeasible start (x = 0, slacks
+// max(distance, init), multipliers init): the dynamics and slack residuals vanish with the first
+// full step.
+// Cost per iteration: one full factorization of the backend (~10 k multiply-adds per stage at the
+// Kinova size NX = 16, NU = 8; 17 us for 17 stages with AVX-512, bench/qp/RESULTS.md), two
+// solve_exact() and the products with the stage blocks for the residuals. Memory: the backend's
+// factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 14 NI + 6 NV + 2 NA + 3 N NX scalars
+// for the iterate, the directions and the weights (NI = NV + N NG + NGN: the inequalities' index
+// space), NV + NA bytes (~110 KB at the Kinova size in double: a separate workspace, so only a
+// program that uses the cold start pays it).
+// Not handled (status unsupported: use the active set's own cold start): equalities other than
+// x_0 (a bound with lb == ub on another variable, a path row with lg == ug).
+// Sign conventions as OcpQpSolver: a flat multiplier > 0 means "upper bound active", and
+// H x + g + lam_x + A' lam_a = 0 with dyn_k = x_{k+1} - A_k x_k - B_k u_k.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "arbor/qp/backend.hpp"
+#include "arbor/qp/ocp_riccati_backend.hpp"
+#include "arbor/qp/problem.hpp"
+#include "arbor/qp/settings.hpp"
+#include "arbor/qp/status.hpp"
+
+namespace arbor::qp {
+
+/// Outcome of OcpInteriorPoint::solve().
+enum class IpmStatus : unsigned char {
+  converged,             ///< residuals and complementarity below the settings' tolerances
+  iteration_limit,       ///< max_iter reached (not converged: e.g. an infeasible QP)
+  factorization_failed,  ///< an input block R + B' P B was not positive definite
+  non_finite,            ///< NaN or infinite data or iterate
+  unsupported,           ///< an equality other than x_0 (see the top of the file)
+};
+
+/// Name of an IpmStatus value.
+constexpr const char* to_string(IpmStatus s) {
+  switch (s) {
+    case IpmStatus::converged:
+      return "converged";
+    case IpmStatus::iteration_limit:
+      return "iteration_limit";
+    case IpmStatus::factorization_failed:
+      return "factorization_failed";
+    case IpmStatus::non_finite:
+      return "non_finite";
+    case IpmStatus::unsupported:
+      return "unsupported";
+  }
+  return "unknown";
+}
+
+/// Report of the last OcpInteriorPoint::solve().
+template <typename Scalar>
+struct IpmInfo {
+  int iterations = 0;          ///< interior-point iterations (each one factorization)
+  Scalar complementarity = 0;  ///< mean s' lam at the end
+  Scalar primal_residual = 0;  ///< max |dynamics and slack residual|
+  Scalar dual_residual = 0;    ///< max |stationarity residual| (free variables)
+  int guessed_active = 0;      ///< inequalities the crossover names active (warm_start())
+};
+
+template <typename Qp>
+class OcpInteriorPoint;
+
+/// Interior-point workspace and method for OcpQp<Scalar, N, NX, NU, NG, NGN> (top of the file).
+template <typename Scalar, int N, int NX, int NU, int NG, int NGN>
+class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
+ public:
+  using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
+  using Real = Scalar;  ///< the scalar type
+  static constexpr int NW = NX + NU;
+  static constexpr int NV = Problem::nv;
+  static constexpr int NA = Problem::na;
+  /// the inequalities' index space: the variables (their bounds), then the path rows
+  static constexpr int NI = NV + N * NG + NGN;
+  using VecV = Eigen::Matrix<Scalar, NV, 1>;
+  using VecI = Eigen::Matrix<Scalar, NI, 1>;
+  using VecX = Eigen::Matrix<Scalar, NX, 1>;
+  using Costates = Eigen::Matrix<Scalar, N * NX, 1>;
+  using VecA = Eigen::Matrix<Scalar, NA, 1>;
+
+  /// Runs the interior-point iterations on p from x = 0 (x_0 at its fixed value).
+  IpmStatus solve(const Problem& p, const IpmSettings<Scalar>& s = IpmSettings<Scalar>{}) {
+    p_ = &p;
+    info_ = IpmInfo<Scalar>{};
+    const IpmStatus st = initialize(s);
+    if (st != IpmStatus::converged)
+      return status_ = st;
+    for (;;) {
+      row_values(w_, z_);
+      const Scalar tau = residuals();
+      info_.complementarity = tau;
+      if (!std::isfinite(tau) || !std::isfinite(info_.primal_residual) ||
+          !std::isfinite(info_.dual_residual))
+        return status_ = IpmStatus::non_finite;
+      if (info_.primal_residual <= s.tol * scale_ && info_.dual_residual <= s.tol * scale_ &&
+          tau <= s.tol)
+        return status_ = IpmStatus::converged;
+      if (info_.iterations >= s.max_iter)
+        return status_ = IpmStatus::iteration_limit;
+      if (!factorize(s.reg))
+        return status_ = IpmStatus::factorization_failed;
+      ++info_.iterations;
+      // predictor (affine scaling): complementarity targets 0
+      direction(Scalar(0), false);
+      const Scalar ap = step_length(sl_, dsl_, su_, dsu_, Scalar(1));
+      const Scalar ad = step_length(lam_, dlam_, mu_, dmu_, Scalar(1));
+      Scalar tau_aff = 0;
+      for (int i = 0; i < NI; ++i) {
+        if (kind_[i] & kLower)
+          tau_aff += (sl_[i] + ap * dsl_[i]) * (lam_[i] + ad * dlam_[i]);
+        if (kind_[i] & kUpper)
+          tau_aff += (su_[i] + ap * dsu_[i]) * (mu_[i] + ad * dmu_[i]);
+      }
+      tau_aff /= Scalar(m_);
+      const Scalar ratio = tau_aff / tau;
+      const Scalar sigma = ratio * ratio * ratio;
+      // corrector: centring sigma tau and the predictor's second-order term
+      direction(sigma * tau, true);
+      const Scalar bp = step_length(sl_, dsl_, su_, dsu_, s.boundary);
+      const Scalar bd = step_length(lam_, dlam_, mu_, dmu_, s.boundary);
+      w_ += bp * dw_;
+      nu_ += bd * dnu_;
+      for (int i = 0; i < NI; ++i) {
+        if (kind_[i] & kLower) {
+          sl_[i] += bp * dsl_[i];
+          lam_[i] += bd * dlam_[i];
+        }
+        if (kind_[i] & kUpper) {
+          su_[i] += bp * dsu_[i];
+          mu_[i] += bd * dmu_[i];
+        }
+      }
+    }
+  }
+
+  /// Writes the crossover point into an active-set solver set up on the same problem: x = the
+  /// interior point, the multipliers of the inequalities guessed active (lam > s on a side: the
+  /// multiplier dominates the slack) with their side's sign, 0 for the others, the costates on
+  /// the dynamics rows and x_0's multipliers from stationarity. Its next solve() starts from the
+  /// working set these name (a warm start).
+  template <class Solver>
+  void warm_start(Solver& solver) {
+    solver.x() = w_;
+    auto& lx = solver.lam_x();
+    auto& la = solver.lam_a();
+    lx.setZero();
+    la.setZero();
+    int active = 0;
+    for (int i = 0; i < NI; ++i) {
+      Scalar y = 0;
+      if ((kind_[i] & kLower) && lam_[i] > sl_[i])
+        y = -lam_[i];
+      else if ((kind_[i] & kUpper) && mu_[i] > su_[i])
+        y = mu_[i];
+      active += y != Scalar(0);
+      if (i < NV) {
+        lx[i] = y;
+      } else {
+        const int r = i - NV, k = NG > 0 && r < N * NG ? r / NG : N;
+        la[Problem::constraint_offset(k) + (r - (k < N ? k * NG : N * NG))] = y;
+      }
+    }
+    for (int k = 0; k < N; ++k)
+      la.template segment<NX>(Problem::dynamics_offset(k)) = nu_.template segment<NX>(k * NX);
+    // x_0: its equality's multiplier closes stationarity (rw_ without the bound term)
+    lx.template head<NX>() = -rw_.template head<NX>();
+    info_.guessed_active = active;
+  }
+
+  /// The primal iterate (flat layout of problem.hpp).
+  const VecV& x() const { return w_; }
+  /// Report of the last solve().
+  const IpmInfo<Scalar>& info() const { return info_; }
+  /// Status of the last solve().
+  IpmStatus status() const { return status_; }
+
+ private:
+  static constexpr std::uint8_t kLower = 1, kUpper = 2;
+  /// Index of stage k's first path row in the inequalities' space (k = N: the terminal rows).
+  static constexpr int row(int k) { return NV + k * NG; }
+  /// The weight lam / s_l + mu / s_u of inequality i in the Newton matrix.
+  Scalar weight(int i) const {
+    Scalar d = 0;
+    if (kind_[i] & kLower)
+      d += lam_[i] / sl_[i];
+    if (kind_[i] & kUpper)
+      d += mu_[i] / su_[i];
+    return d;
+  }
+
+  IpmStatus initialize(const IpmSettings<Scalar>& s) {
+    const Problem& p = *p_;
+    constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
+    scale_ = Scalar(1);
+    m_ = 0;
+    w_.setZero();
+    nu_.setZero();
+    auto bound = [&](int i, Scalar lo, Scalar hi) -> bool {
+      lb_[i] = lo;
+      ub_[i] = hi;
+      kind_[i] = 0;
+      if (std::isnan(lo) || std::isnan(hi))
+        return false;
+      if (lo == hi)
+        return false;  // an equality: only x_0's are handled (by fixing it)
+      if (lo > -inf) {
+        kind_[i] |= kLower;
+        ++m_;
+      }
+      if (hi < inf) {
+        kind_[i] |= kUpper;
+        ++m_;
+      }
+      return true;
+    };
+    for (int i = 0; i < NI; ++i)
+      kind_[i] = 0;
+    for (int k = 0; k < N; ++k) {
+      const auto& st = p.stage[k];
+      const int ox = Problem::state_offset(k), ou = Problem::input_offset(k);
+      for (int j = 0; j < NX; ++j) {
+        if (k == 0) {  // x_0 is fixed
+          if (!(st.lbx[j] == st.ubx[j]) || !std::isfinite(st.lbx[j]))
+            return IpmStatus::unsupported;
+          w_[j] = st.lbx[j];
+          lb_[j] = ub_[j] = st.lbx[j];
+          continue;
+        }
+        if (!bound(ox + j, st.lbx[j], st.ubx[j]))
+          return IpmStatus::unsupported;
+      }
+      for (int j = 0; j < NU; ++j)
+        if (!bound(ou + j, st.lbu[j], st.ubu[j]))
+          return IpmStatus::unsupported;
+      const int og = row(k);
+      for (int j = 0; j < NG; ++j)
+        if (!bound(og + j, st.lg[j], st.ug[j]))
+          return IpmStatus::unsupported;
+      for (int j = 0; j < NX; ++j)
+        scale_ = std::max(scale_, std::abs(st.b[j]));
+      scale_ = std::max(scale_, st.q.cwiseAbs().maxCoeff());
+      if constexpr (NU > 0)
+        scale_ = std::max(scale_, st.r.cwiseAbs().maxCoeff());
+    }
+    const auto& t = p.terminal;
+    for (int j = 0; j < NX; ++j)
+      if (!bound(Problem::state_offset(N) + j, t.lbx[j], t.ubx[j]))
+        return IpmStatus::unsupported;
+    for (int j = 0; j < NGN; ++j)
+      if (!bound(row(N) + j, t.lg[j], t.ug[j]))
+        return IpmStatus::unsupported;
+    scale_ = std::max(scale_, t.q.cwiseAbs().maxCoeff());
+    if (!std::isfinite(scale_))
+      return IpmStatus::non_finite;
+    // the Newton matrix's working set: x_0 fixed, the dynamics rows, every path row (weighted)
+    be_.p = &p;
+    for (auto& c : ws_)
+      c = detail::ConstraintState::inactive;
+    for (int j = 0; j < NX; ++j)
+      ws_[j] = detail::ConstraintState::equality;
+    for (int k = 0; k <= N; ++k) {
+      if (k < N)
+        for (int j = 0; j < NX; ++j)
+          ws_[NV + Problem::dynamics_offset(k) + j] = detail::ConstraintState::equality;
+      const int nr = k < N ? NG : NGN;
+      for (int j = 0; j < nr; ++j)
+        ws_[NV + Problem::constraint_offset(k) + j] = detail::ConstraintState::lower;
+    }
+    wa_.setZero();
+    bw_.setZero();
+    fixed_.setZero();
+    // slacks: the distance to each bound at the start, at least init; multipliers init
+    row_values(w_, z_);
+    for (int i = 0; i < NI; ++i) {
+      sl_[i] = su_[i] = lam_[i] = mu_[i] = Scalar(0);
+      if (kind_[i] & kLower) {
+        sl_[i] = std::max(z_[i] - lb_[i], s.init);
+        lam_[i] = s.init;
+      }
+      if (kind_[i] & kUpper) {
+        su_[i] = std::max(ub_[i] - z_[i], s.init);
+        mu_[i] = s.init;
+      }
+    }
+    if (m_ == 0)
+      m_ = 1;
+    return IpmStatus::converged;
+  }
+
+  /// z = [v; rows]: the variables, and C x + D u on the path rows (dynamics rows: 0).
+  void row_values(const VecV& v, VecI& z) const {
+    const Problem& p = *p_;
+    z.template head<NV>() = v;
+    for (int k = 0; k < N; ++k) {
+      if constexpr (NG > 0) {
+        const auto& st = p.stage[k];
+        const int og = row(k);
+        z.template segment<NG>(og).noalias() =
+            st.C * v.template segment<NX>(Problem::state_offset(k));
+        if constexpr (NU > 0)
+          z.template segment<NG>(og).noalias() +=
+              st.D * v.template segment<NU>(Problem::input_offset(k));
+      }
+    }
+    if constexpr (NGN > 0)
+      z.template segment<NGN>(row(N)).noalias() =
+          p.terminal.C * v.template segment<NX>(Problem::state_offset(N));
+  }
+
+  /// rw = H w + g + D' nu - sum (lam - mu) a_i (x_0's entries without their equality's
+  /// multiplier), rdyn, the slack residuals; returns the mean complementarity and records the
+  /// largest residuals in info_.
+  Scalar residuals() {
+    const Problem& p = *p_;
+    for (int k = 0; k < N; ++k) {
+      const auto& st = p.stage[k];
+      const int ox = Problem::state_offset(k), ou = Problem::input_offset(k);
+      const auto x = w_.template segment<NX>(ox);
+      const auto nuk = nu_.template segment<NX>(k * NX);
+      auto rx = rw_.template segment<NX>(ox);
+      rx.noalias() = st.Q * x;
+      rx += st.q;
+      rx.noalias() -= st.A.transpose() * nuk;
+      if (k > 0)
+        rx += nu_.template segment<NX>((k - 1) * NX);
+      if constexpr (NU > 0) {
+        const auto u = w_.template segment<NU>(ou);
+        rx.noalias() += st.S.transpose() * u;
+        auto ru = rw_.template segment<NU>(ou);
+        ru.noalias() = st.S * x;
+        ru.noalias() += st.R * u;
+        ru += st.r;
+        ru.noalias() -= st.B.transpose() * nuk;
+      }
+      auto rd = rdyn_.template segment<NX>(k * NX);
+      rd = w_.template segment<NX>(Problem::state_offset(k + 1)) - st.b;
+      rd.noalias() -= st.A * x;
+      if constexpr (NU > 0)
+        rd.noalias() -= st.B * w_.template segment<NU>(ou);
+      if constexpr (NG > 0) {
+        const int og = row(k);
+        Eigen::Matrix<Scalar, NG, 1> y;
+        for (int j = 0; j < NG; ++j)
+          y[j] = lam_[og + j] - mu_[og + j];
+        rx.noalias() -= st.C.transpose() * y;
+        if constexpr (NU > 0)
+          rw_.template segment<NU>(ou).noalias() -= st.D.transpose() * y;
+      }
+    }
+    {
+      const auto& t = p.terminal;
+      const int ox = Problem::state_offset(N);
+      auto rx = rw_.template segment<NX>(ox);
+      rx.noalias() = t.Q * w_.template segment<NX>(ox);
+      rx += t.q + nu_.template segment<NX>((N - 1) * NX);
+      if constexpr (NGN > 0) {
+        const int og = row(N);
+        Eigen::Matrix<Scalar, NGN, 1> y;
+        for (int j = 0; j < NGN; ++j)
+          y[j] = lam_[og + j] - mu_[og + j];
+        rx.noalias() -= t.C.transpose() * y;
+      }
+    }
+    Scalar pr = rdyn_.cwiseAbs().maxCoeff(), comp = 0;
+    for (int i = 0; i < NI; ++i) {
+      rsl_[i] = rsu_[i] = Scalar(0);
+      if (i < NV)
+        rw_[i] -= lam_[i] - mu_[i];
+      if (kind_[i] & kLower) {
+        rsl_[i] = z_[i] - lb_[i] - sl_[i];
+        pr = std::max(pr, std::abs(rsl_[i]));
+        comp += sl_[i] * lam_[i];
+      }
+      if (kind_[i] & kUpper) {
+        rsu_[i] = ub_[i] - z_[i] - su_[i];
+        pr = std::max(pr, std::abs(rsu_[i]));
+        comp += su_[i] * mu_[i];
+      }
+    }
+    info_.primal_residual = pr;
+    info_.dual_residual = rw_.template tail<NV - NX>().cwiseAbs().maxCoeff();
+    return comp / Scalar(m_);
+  }
+
+  /// Factorizes the Newton matrix for the weights lam/s_l + mu/s_u (top of the file) with the
+  /// active-set solver's Riccati backend: the bounds' weights on the stage diagonals
+  /// (diag_weights), the rows' as the weights of rows in the working set; x_0 fixed (an exact
+  /// bound), the dynamics exact. False on a pivot failure.
+  bool factorize(Scalar reg) {
+    for (int i = 0; i < NV; ++i)
+      bw_[i] = weight(i);
+    for (int k = 0; k <= N; ++k) {
+      const int nr = k < N ? NG : NGN;
+      for (int j = 0; j < nr; ++j)
+        wa_[Problem::constraint_offset(k) + j] = weight(row(k) + j);
+    }
+    be_.diag_weights = bw_.data();
+    be_.mark_all();
+    return be_.factorize(ws_.data(), reg, Scalar(0), wa_) >= 0;
+  }
+
+  /// Solves min 1/2 dw' G dw + f' dw s.t. dx_{k+1} = A dx_k + B du_k + e_k, dx_0 = 0 on the
+  /// factorization (f: fw_, e = -rdyn_): dw_ and the costate steps dnu_.
+  void solve_lq() {
+    dw_ = -fw_;
+    for (int k = 0; k < N; ++k)
+      ea_.template segment<NX>(Problem::dynamics_offset(k)) = -rdyn_.template segment<NX>(k * NX);
+    fixed_.template head<NX>().setZero();  // x_0's step
+    be_.solve_exact(dw_, ea_, fixed_, wa_);
+    for (int k = 0; k < N; ++k)
+      dnu_.template segment<NX>(k * NX) = ea_.template segment<NX>(Problem::dynamics_offset(k));
+  }
+
+  /// The Newton direction for the complementarity targets lam dsl + sl dlam = target - sl lam
+  /// (- dsl dlam of the current direction: the corrector), likewise for the upper sides: dw_,
+  /// dnu_, dsl_, dsu_, dlam_, dmu_ (top of the file).
+  void direction(Scalar target, bool corrector) {
+    const Problem& p = *p_;
+    auto rcl = [&](int i) {
+      return target - sl_[i] * lam_[i] - (corrector ? dsl_[i] * dlam_[i] : Scalar(0));
+    };
+    auto rcu = [&](int i) {
+      return target - su_[i] * mu_[i] - (corrector ? dsu_[i] * dmu_[i] : Scalar(0));
+    };
+    fw_ = rw_;
+    for (int i = 0; i < NI; ++i) {
+      Scalar c = 0;
+      if (kind_[i] & kLower)
+        c += (rcl(i) - lam_[i] * rsl_[i]) / sl_[i];
+      if (kind_[i] & kUpper)
+        c -= (rcu(i) - mu_[i] * rsu_[i]) / su_[i];
+      cz_[i] = c;
+      if (i < NV)
+        fw_[i] -= c;
+    }
+    for (int k = 0; k < N; ++k) {
+      if constexpr (NG > 0) {
+        const auto& st = p.stage[k];
+        const auto c = cz_.template segment<NG>(row(k));
+        fw_.template segment<NX>(Problem::state_offset(k)).noalias() -= st.C.transpose() * c;
+        if constexpr (NU > 0)
+          fw_.template segment<NU>(Problem::input_offset(k)).noalias() -= st.D.transpose() * c;
+      }
+    }
+    if constexpr (NGN > 0) {
+      const auto c = cz_.template segment<NGN>(row(N));
+      fw_.template segment<NX>(Problem::state_offset(N)).noalias() -= p.terminal.C.transpose() * c;
+    }
+    solve_lq();
+    row_values(dw_, cz_);  // cz_ <- the direction's constraint values
+    for (int i = 0; i < NI; ++i) {
+      if (kind_[i] & kLower) {
+        const Scalar r = rcl(i);  // before dsl_, dlam_ are overwritten
+        dsl_[i] = cz_[i] + rsl_[i];
+        dlam_[i] = (r - lam_[i] * dsl_[i]) / sl_[i];
+      } else {
+        dsl_[i] = dlam_[i] = Scalar(0);
+      }
+      if (kind_[i] & kUpper) {
+        const Scalar r = rcu(i);
+        dsu_[i] = -cz_[i] + rsu_[i];
+        dmu_[i] = (r - mu_[i] * dsu_[i]) / su_[i];
+      } else {
+        dsu_[i] = dmu_[i] = Scalar(0);
+      }
+    }
+  }
+
+  /// Largest step in [0, 1] that keeps a + t da and b + t db at least (1 - frac) of their
+  /// values (frac = 1: to the boundary) on the inequalities that exist.
+  Scalar step_length(const VecI& a, const VecI& da, const VecI& b, const VecI& db,
+                     Scalar frac) const {
+    Scalar t = 1;
+    for (int i = 0; i < NI; ++i) {
+      if ((kind_[i] & kLower) && da[i] < Scalar(0))
+        t = std::min(t, -frac * a[i] / da[i]);
+      if ((kind_[i] & kUpper) && db[i] < Scalar(0))
+        t = std::min(t, -frac * b[i] / db[i]);
+    }
+    return t;
+  }
+
+  const Problem* p_ = nullptr;
+  IpmInfo<Scalar> info_{};
+  IpmStatus status_ = IpmStatus::unsupported;
+  Scalar scale_ = 1;
+  int m_ = 1;  ///< number of inequalities (finite sides)
+  std::array<std::uint8_t, NI> kind_{};
+  VecI lb_, ub_, z_, sl_, su_, lam_, mu_, dsl_, dsu_, dlam_, dmu_, rsl_, rsu_;
+  VecI cz_;  ///< scratch: the weights, the right-hand side's coefficients, the direction's values
+  VecV w_, dw_, rw_, fw_;
+  Costates nu_, dnu_, rdyn_;
+  /// the Newton matrix's factorization: the active-set solver's Riccati backend
+  detail::OcpRiccatiBackend<Scalar, N, NX, NU, NG, NGN> be_;
+  std::array<detail::ConstraintState, NV + NA> ws_{};  ///< x_0 fixed, dynamics and rows held
+  VecV bw_, fixed_;                                    ///< bound weights; fixed steps (x_0: 0)
+  VecA wa_, ea_;  ///< row weights; the dynamics' right-hand side, then the costate steps
+};
+
+/// Cold solve of an OcpQpSolver by the interior point and a crossover: ipm.solve(p), then
+/// ipm.warm_start(solver) and solver.solve(). The solver must be set up on p (setup() accepted).
+/// When the interior point does not converge (unsupported equalities, a factorization failure,
+/// non-finite values, the iteration cap: e.g. an infeasible QP, whose certificate the active set
+/// finds) the active set starts cold as before (solver.cold_start()).
+template <class Solver, class Ipm, class Problem>
+QpStatus cold_solve(Solver& solver, Ipm& ipm, const Problem& p,
+                    const IpmSettings<typename Ipm::Real>& s = {}) {
+  if (ipm.solve(p, s) == IpmStatus::converged)
+    ipm.warm_start(solver);
+  else
+    solver.cold_start();
+  return solver.solve();
+}
+
+}  // namespace arbor::qp
