@@ -10,7 +10,10 @@
 //     consecutive failure, then the fallback: the relaxed QP (fallback_relaxed) or the stop law
 //     clipped to the input bounds (fallback_stop); stale_plan keeps failing. No allocation, the
 //     control finite in every case;
-//   - a bound on the feedback's QP iterations (issue 38): step_limited, the swing-up still done.
+//   - a bound on the feedback's QP iterations (issue 38): step_limited, the swing-up still done;
+//   - the interior-point cold start of the QP (issue 38): the same converged plan from a cold
+//     guess with fewer active-set iterations, and the same statuses when every QP is infeasible
+//     (the interior point gives up, the active set finds the certificate).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -269,6 +272,60 @@ TEST(NmpcBoundedFeedback, CutShortQpsStillBalanceAfterPushes) {
     EXPECT_LT(late, 0.05);  // upright and at rest at the end
   }
   ctrl.settings().feedback_qp_iterations = 0;
+}
+
+TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations) {
+  static const auto p = bounded_pendulum();
+  using Ctrl = arbor::nmpc::Nmpc<Bounded>;
+  static Ctrl plain(p), crossed(p);
+  static Ctrl::ColdStart ipm;
+  crossed.set_cold_start_workspace(&ipm);
+  const Eigen::Vector2d x0(0.0, 0.0);  // hanging: the swing-up saturates torque and velocity
+  ASSERT_EQ(plain.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(crossed.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  NmpcStatus s1, s2;
+  s1 = plain.solve(x0);
+  {
+    arbor::test::NoAllocScope guard;
+    s2 = crossed.solve(x0);
+  }
+  ASSERT_EQ(s1, NmpcStatus::converged);
+  ASSERT_EQ(s2, NmpcStatus::converged);
+  double dx = 0, du = 0;
+  for (int k = 0; k <= N; ++k)
+    dx = std::max(dx, (plain.state(k) - crossed.state(k)).cwiseAbs().maxCoeff());
+  for (int k = 0; k < N; ++k)
+    du = std::max(du, (plain.input(k) - crossed.input(k)).cwiseAbs().maxCoeff());
+  EXPECT_LT(dx, 1e-5);
+  EXPECT_LT(du, 1e-5);
+  EXPECT_EQ(plain.info().qp_ipm_iterations, 0);
+  EXPECT_GT(crossed.info().qp_ipm_iterations, 0);  // the first QP only (the others are warm)
+  EXPECT_LE(crossed.info().qp_ipm_iterations, crossed.settings().cold_start.max_iter);
+  std::printf(
+      "cold SQP solve: %d SQP iterations, %d active-set iterations; with the interior "
+      "point: %d SQP iterations, %d interior-point + %d active-set iterations; plans "
+      "%.1e / %.1e apart\n",
+      plain.info().iterations, plain.info().qp_iterations, crossed.info().iterations,
+      crossed.info().qp_ipm_iterations, crossed.info().qp_iterations, dx, du);
+  EXPECT_LT(crossed.info().qp_iterations, plain.info().qp_iterations);
+}
+
+TEST(NmpcColdStart, InfeasibleQpsFailAsWithoutTheInteriorPoint) {
+  static const auto p = infeasible_pendulum();
+  using Ctrl = arbor::nmpc::Nmpc<std::remove_const_t<decltype(p)>>;
+  static Ctrl ctrl(p);
+  static Ctrl::ColdStart ipm;
+  ctrl.set_cold_start_workspace(&ipm);
+  ctrl.settings().fallback = FallbackPolicy::stale_plan;
+  const Eigen::Vector2d x0(0.5, 0.0);
+  std::vector<NmpcStatus> sts;
+  sts.reserve(4);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::prepared);
+  run_failures(ctrl, x0, 3, sts);
+  for (auto s : sts)
+    EXPECT_EQ(s, NmpcStatus::qp_failed);
+  EXPECT_EQ(ctrl.info().qp_status, QpStatus::infeasible);
+  EXPECT_GT(ctrl.info().qp_ipm_iterations, 0);  // tried (the multipliers were reset)
 }
 
 }  // namespace

@@ -57,6 +57,7 @@
 #include "arbor/nmpc/settings.hpp"
 #include "arbor/nmpc/status.hpp"
 #include "arbor/ocp/linearize.hpp"
+#include "arbor/qp/ocp_interior_point.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 
 namespace arbor::nmpc {
@@ -81,6 +82,8 @@ class Nmpc {
   using Vp = VecN<Scalar, np>;            ///< stage parameters
   using Settings = NmpcSettings<Scalar>;  ///< settings
   using Info = NmpcInfo<Scalar>;          ///< figures of the last call
+  /// Workspace of the QP's interior-point cold start (set_cold_start_workspace)
+  using ColdStart = qp::OcpInteriorPoint<Qp>;
   /// A control law that stops the system (FallbackPolicy::stop): u = law(x, user), e.g. for a
   /// robot gravity compensation plus joint damping; the controller clips it to the input bounds.
   using StopLaw = Vu (*)(const Vx& x, void* user);
@@ -162,6 +165,14 @@ class Nmpc {
   }
   /// Settings (take effect at the next call).
   Settings& settings() { return settings_; }
+  /// The QP's cold starts (its multipliers all zero: the first QP, and after a reset by an
+  /// infeasible, unbounded or non-finite QP) run the interior point on ws and cross over to the
+  /// active set (qp/ocp_interior_point.hpp; info().qp_ipm_iterations); when the interior point
+  /// does not converge (an equality other than x_0, an infeasible QP: its iteration cap) the
+  /// active set starts cold, as without it. nullptr (the default): the active set starts cold
+  /// alone. ws is the caller's (~127 KB at the Kinova size in double); settings().cold_start
+  /// holds its settings.
+  void set_cold_start_workspace(ColdStart* ws) { ipm_ = ws; }
   /// The stop law of the fallback (nullptr: none) and its user pointer.
   void set_stop_law(StopLaw law, void* user = nullptr) {
     stop_law_ = law;
@@ -556,6 +567,16 @@ class Nmpc {
     const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
     solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
     solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
+    if (ipm_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
+        (lam_rows().array() == Scalar(0)).all()) {
+      // a cold start: the interior point, then the active set from its crossover point
+      const qp::IpmStatus is = ipm_->solve(qp_, settings_.cold_start);
+      info_.qp_ipm_iterations += ipm_->info().iterations;
+      if (is == qp::IpmStatus::converged) {
+        ipm_->warm_start(solver_);
+        return solver_.solve();
+      }
+    }
     solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
   }
@@ -687,6 +708,7 @@ class Nmpc {
   int qp_cap_ = 0;              ///< feedback(): the bound on the QP's iterations (0: none)
   bool limited_ = false;        ///< the last QP stopped at that bound
   bool vectors_only_ = false;   ///< prepare() set up and prefactorized the QP: read its vectors
+  ColdStart* ipm_ = nullptr;    ///< the QP's interior-point cold start (caller's; nullptr: off)
 };
 
 }  // namespace arbor::nmpc

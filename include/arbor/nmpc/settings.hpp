@@ -107,6 +107,8 @@ struct NmpcSettings {
   /// finishes). The exact-Hessian controller's Gauss-Newton fallback solves a second QP under
   /// the same bound. solve() is not bounded by it.
   int feedback_qp_iterations = 0;
+  /// The interior-point cold start's settings (Nmpc::set_cold_start_workspace).
+  qp::IpmSettings<Scalar> cold_start{};
 };
 
 }  // namespace arbor::nmpc

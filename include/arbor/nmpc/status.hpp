@@ -100,6 +100,8 @@ struct NmpcInfo {
   int failed_samples = 0;      ///< consecutive calls whose QP failed, this one included
   /// qp::SolveInfo::merit of the last QP: its largest residual / tolerance (<= 1: solved)
   Scalar qp_merit = 0;
+  /// interior-point iterations of the QP cold starts of the call (Nmpc::set_cold_start_workspace)
+  int qp_ipm_iterations = 0;
 };
 
 }  // namespace arbor::nmpc
