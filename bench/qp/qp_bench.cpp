@@ -1,6 +1,8 @@
 // Host benchmarks of the OCP QP solver at the size of the paper's Kinova Gen3 NMPC (N = 16,
 // nx = 16, nu = 8): OCP-FD (1 path row per stage) and OCP-ID (8 rows per stage), double and float.
 //   cold:   setup + cold start + solve
+//   cold_ipm: setup + the interior point, its crossover and the active set's solve
+//           (qp/ocp_interior_point.hpp: qp::cold_solve)
 //   warm:   solve of a perturbed problem (x0 shifted, costs perturbed by 1 %) from the solution of
 //           the nominal one (the copy of the iterate, a few us, is inside the timing)
 //   update: the real-time path: update(Convexity::assumed) of the bound (perturbed) problem,
@@ -18,6 +20,7 @@
 #include <array>
 #include <cstdint>
 
+#include "arbor/qp/ocp_interior_point.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "kinova_qp.hpp"
 #include "qp_random_static.hpp"
@@ -95,6 +98,23 @@ void bm_cold(benchmark::State& state) {
   report(state, f.solver, st);
 }
 
+/// Cold solve by the interior point and its crossover (qp/ocp_interior_point.hpp): setup,
+/// interior-point iterations, warm start of the active set from the crossover point, solve.
+template <typename Qp, typename Backend = Default<Qp>>
+void bm_cold_ipm(benchmark::State& state) {
+  auto& f = fixture<Qp, Backend>();
+  static arbor::qp::OcpInteriorPoint<Qp> ipm;
+  QpStatus st = QpStatus::not_setup;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(f.solver.setup(f.perturbed, f.settings));
+    st = arbor::qp::cold_solve(f.solver, ipm, f.perturbed);
+    benchmark::DoNotOptimize(f.solver.x().data());
+  }
+  report(state, f.solver, st);
+  state.counters["ipm_iterations"] = ipm.info().iterations;
+  state.counters["ipm_bytes"] = sizeof(ipm);
+}
+
 template <typename Qp, typename Backend = Default<Qp>>
 void bm_warm(benchmark::State& state) {
   auto& f = fixture<Qp, Backend>();
@@ -164,20 +184,24 @@ using OddD = arbor::qp::OcpQp<double, 20, 14, 7, 1, 1>;
 using OddF = arbor::qp::OcpQp<float, 20, 14, 7, 1, 1>;
 
 BENCHMARK(bm_cold<FdD>)->Name("fd_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold_ipm<FdD>)->Name("fd_double/cold_ipm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdD>)->Name("fd_double/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_update<FdD>)->Name("fd_double/update_assumed_warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<FdD>)->Name("fd_double/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_setup<FdD>)->Name("fd_double/setup")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<IdD>)->Name("id_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold_ipm<IdD>)->Name("id_double/cold_ipm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<IdD>)->Name("id_double/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_update<IdD>)->Name("id_double/update_assumed_warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<IdD>)->Name("id_double/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<OddD>)->Name("odd_double/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold_ipm<OddD>)->Name("odd_double/cold_ipm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<OddD>)->Name("odd_double/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<OddD>)->Name("odd_double/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<OddF>)->Name("odd_float/cold")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<OddF>)->Name("odd_float/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<FdF>)->Name("fd_float/cold")->Unit(benchmark::kMicrosecond);
+BENCHMARK(bm_cold_ipm<FdF>)->Name("fd_float/cold_ipm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_warm<FdF>)->Name("fd_float/warm")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_factor<FdF>)->Name("fd_float/factor_full")->Unit(benchmark::kMicrosecond);
 BENCHMARK(bm_cold<IdF>)->Name("id_float/cold")->Unit(benchmark::kMicrosecond);

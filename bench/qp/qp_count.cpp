@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdio>
 
+#include "arbor/qp/ocp_interior_point.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "kinova_qp.hpp"
 
@@ -70,6 +71,21 @@ void run(const char* name) {
       "%-10s cold perturbed %-15s it %3d changes %3d stages %4d active %3d pr %.1e du %.1e\n", name,
       arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
       i.active_constraints, double(i.primal_residual), double(i.dual_residual));
+  // cold by the interior point and its crossover (qp/ocp_interior_point.hpp)
+  static arbor::qp::OcpInteriorPoint<Qp> ipm;
+  for (const Qp* q : {&c.nominal, &c.perturbed}) {
+    const bool nominal = q == &c.nominal;
+    std::snprintf(label, sizeof label, "%s/cold_ipm_%s", name, nominal ? "nominal" : "perturbed");
+    ARBOR_MEASURE(
+        label, (su = c.solver.setup(*q, settings), st = arbor::qp::cold_solve(c.solver, ipm, *q)));
+    std::printf(
+        "%-10s cold ipm %-9s %-15s ipm it %2d (%s, %d guessed active), then it %3d changes "
+        "%3d stages %4d active %3d pr %.1e du %.1e\n",
+        name, nominal ? "nominal" : "perturbed", arbor::qp::to_string(st), ipm.info().iterations,
+        arbor::qp::to_string(ipm.status()), ipm.info().guessed_active, i.iterations,
+        i.active_set_changes, i.stages_factorized, i.active_constraints, double(i.primal_residual),
+        double(i.dual_residual));
+  }
   // real-time iteration: one problem object, refilled; update without the convexity check
   c.live = c.nominal;
   if (c.solver.setup(c.live, settings) != QpStatus::accepted)

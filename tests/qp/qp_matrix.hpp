@@ -19,6 +19,7 @@
 #include <limits>
 
 #include "arbor/qp/dense_qp_solver.hpp"
+#include "arbor/qp/ocp_interior_point.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "arbor_test.hpp"
 #include "qp_random_static.hpp"
@@ -210,6 +211,7 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
   DenseProblem& dp = dense_problem();
   DenseSolver& dense = dense_solver();
   static arbor::qp::OcpQpSolver<Qs> solver;
+  static arbor::qp::OcpInteriorPoint<Qs> ipm;
   constexpr bool single = sizeof(S) == 4;
   // tolerances: the solver's own (relative 1e-8 / 1e-4) with margin; the point against the
   // dense solution relative to the solution's scale (float: the data's rounding moves it too)
@@ -278,6 +280,29 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
     worst_x = std::max(worst_x, dx);
     worst_kkt = std::max(worst_kkt, e);
     iters = std::max(iters, solver.info().iterations);
+    // the interior-point cold start (qp/ocp_interior_point.hpp) and its crossover: the same
+    // (unique: strictly convex) solution as the active set's own cold start
+    QpStatus si;
+    const int cold_iterations = solver.info().iterations;
+    {
+      arbor::test::NoAllocScope guard;
+      arbor::qp::QpSettings<S> settings;
+      settings.max_iter = 5000;
+      su = solver.setup(qs, settings);
+      si = arbor::qp::cold_solve(solver, ipm, qs);
+    }
+    ASSERT_EQ(su, QpStatus::accepted) << "seed " << seed;
+    EXPECT_EQ(si, QpStatus::solved) << "interior-point cold start, seed " << seed;
+    // float may stop at its round-off floor before tol (precision_limit): still crossed over
+    EXPECT_TRUE(arbor::qp::crossover_point(ipm.status()))
+        << arbor::qp::to_string(ipm.status()) << ", seed " << seed;
+    const double dxi = (solver.x().template cast<double>() - x).cwiseAbs().maxCoeff() /
+                       (1 + x.cwiseAbs().maxCoeff());
+    EXPECT_LE(dxi, tx) << "interior-point cold start vs the active set's, seed " << seed;
+    arbor::test::log() << "    seed " << seed << ": interior point "
+                       << arbor::qp::to_string(ipm.status()) << " (" << ipm.info().iterations
+                       << " it), then " << solver.info().iterations
+                       << " active-set it (cold: " << cold_iterations << "), |dx| " << dxi << "\n";
   }
   arbor::test::log() << "  [" << isa << (single ? " float" : " double") << "] N=" << N
                      << " nx=" << NX << " nu=" << NU << " ng=" << NG << " ngn=" << NGN

@@ -572,7 +572,7 @@ class Nmpc {
       // a cold start: the interior point, then the active set from its crossover point
       const qp::IpmStatus is = ipm_->solve(qp_, settings_.cold_start);
       info_.qp_ipm_iterations += ipm_->info().iterations;
-      if (is == qp::IpmStatus::converged) {
+      if (qp::crossover_point(is)) {
         ipm_->warm_start(solver_);
         return solver_.solve();
       }

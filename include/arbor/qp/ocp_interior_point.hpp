@@ -55,9 +55,12 @@ namespace arbor::qp {
 
 /// Outcome of OcpInteriorPoint::solve().
 enum class IpmStatus : unsigned char {
-  converged,             ///< residuals and complementarity below the settings' tolerances
-  iteration_limit,       ///< max_iter reached (not converged: e.g. an infeasible QP)
-  factorization_failed,  ///< an input block R + B' P B was not positive definite
+  converged,        ///< residuals and complementarity below the settings' tolerances
+  iteration_limit,  ///< max_iter reached (not converged: e.g. an infeasible QP)
+  /// the Newton matrix lost definiteness (round-off) after progress: residuals and mean
+  /// complementarity below sqrt(tol), not below tol; still a crossover point
+  precision_limit,
+  factorization_failed,  ///< the Newton matrix was not positive definite (no usable point)
   non_finite,            ///< NaN or infinite data or iterate
   unsupported,           ///< an equality other than x_0 (see the top of the file)
 };
@@ -69,6 +72,8 @@ constexpr const char* to_string(IpmStatus s) {
       return "converged";
     case IpmStatus::iteration_limit:
       return "iteration_limit";
+    case IpmStatus::precision_limit:
+      return "precision_limit";
     case IpmStatus::factorization_failed:
       return "factorization_failed";
     case IpmStatus::non_finite:
@@ -128,8 +133,14 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
         return status_ = IpmStatus::converged;
       if (info_.iterations >= s.max_iter)
         return status_ = IpmStatus::iteration_limit;
-      if (!factorize(s.reg))
-        return status_ = IpmStatus::factorization_failed;
+      if (!factorize(s.reg)) {
+        // near the solution the weights lam / s span the scalar's range (float: tol 1e-6 fails):
+        // a point that made progress is still a crossover point
+        const bool near = info_.iterations > 0 &&
+                          info_.primal_residual <= std::sqrt(s.tol) * scale_ &&
+                          tau <= std::sqrt(s.tol);
+        return status_ = near ? IpmStatus::precision_limit : IpmStatus::factorization_failed;
+      }
       ++info_.iterations;
       // predictor (affine scaling): complementarity targets 0
       direction(Scalar(0), false);
@@ -528,15 +539,20 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   VecA wa_, ea_;  ///< row weights; the dynamics' right-hand side, then the costate steps
 };
 
+/// True when the interior point's status gives a crossover point (converged, precision_limit).
+constexpr bool crossover_point(IpmStatus s) {
+  return s == IpmStatus::converged || s == IpmStatus::precision_limit;
+}
+
 /// Cold solve of an OcpQpSolver by the interior point and a crossover: ipm.solve(p), then
 /// ipm.warm_start(solver) and solver.solve(). The solver must be set up on p (setup() accepted).
-/// When the interior point does not converge (unsupported equalities, a factorization failure,
-/// non-finite values, the iteration cap: e.g. an infeasible QP, whose certificate the active set
-/// finds) the active set starts cold as before (solver.cold_start()).
+/// When the interior point gives no crossover point (unsupported equalities, a factorization
+/// failure without progress, non-finite values, the iteration cap: e.g. an infeasible QP, whose
+/// certificate the active set finds) the active set starts cold as before (solver.cold_start()).
 template <class Solver, class Ipm, class Problem>
 QpStatus cold_solve(Solver& solver, Ipm& ipm, const Problem& p,
                     const IpmSettings<typename Ipm::Real>& s = {}) {
-  if (ipm.solve(p, s) == IpmStatus::converged)
+  if (crossover_point(ipm.solve(p, s)))
     ipm.warm_start(solver);
   else
     solver.cold_start();
