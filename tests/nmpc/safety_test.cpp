@@ -274,12 +274,31 @@ TEST(NmpcBoundedFeedback, CutShortQpsStillBalanceAfterPushes) {
   ctrl.settings().feedback_qp_iterations = 0;
 }
 
-TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations) {
-  static const auto p = bounded_pendulum();
+/// Two controllers of the bounded pendulum: the QP's cold starts by the active set alone
+/// (plain), and by the interior point and its crossover (crossed).
+struct ColdStartPair {
   using Ctrl = arbor::nmpc::Nmpc<Bounded>;
-  static Ctrl plain(p), crossed(p);
-  static Ctrl::ColdStart ipm;
-  crossed.set_cold_start_workspace(&ipm);
+  Ctrl plain, crossed;
+  Ctrl::ColdStart ipm;
+  explicit ColdStartPair(const Bounded& p) : plain(p), crossed(p) {
+    crossed.set_cold_start_workspace(&ipm);
+  }
+  /// Largest difference of the two plans' inputs.
+  double input_distance() const {
+    double d = 0;
+    for (int k = 0; k < N; ++k)
+      d = std::max(d, (plain.input(k) - crossed.input(k)).cwiseAbs().maxCoeff());
+    return d;
+  }
+};
+ColdStartPair& cold_start_pair() {
+  static ColdStartPair pair(bounded_pendulum());  // big: static storage
+  return pair;
+}
+
+TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations) {
+  auto& plain = cold_start_pair().plain;
+  auto& crossed = cold_start_pair().crossed;
   const Eigen::Vector2d x0(0.0, 0.0);  // hanging: the swing-up saturates torque and velocity
   ASSERT_EQ(plain.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
   ASSERT_EQ(crossed.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
@@ -291,11 +310,10 @@ TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations)
   }
   ASSERT_EQ(s1, NmpcStatus::converged);
   ASSERT_EQ(s2, NmpcStatus::converged);
-  double dx = 0, du = 0;
+  double dx = 0;
   for (int k = 0; k <= N; ++k)
     dx = std::max(dx, (plain.state(k) - crossed.state(k)).cwiseAbs().maxCoeff());
-  for (int k = 0; k < N; ++k)
-    du = std::max(du, (plain.input(k) - crossed.input(k)).cwiseAbs().maxCoeff());
+  const double du = cold_start_pair().input_distance();
   EXPECT_LT(dx, 1e-5);
   EXPECT_LT(du, 1e-5);
   EXPECT_EQ(plain.info().qp_ipm_iterations, 0);
@@ -308,6 +326,34 @@ TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations)
       plain.info().iterations, plain.info().qp_iterations, crossed.info().iterations,
       crossed.info().qp_ipm_iterations, crossed.info().qp_iterations, dx, du);
   EXPECT_LT(crossed.info().qp_iterations, plain.info().qp_iterations);
+}
+
+TEST(NmpcColdStart, RealTimeIterationAfterAResetTakesTheSameStep) {
+  // set_initial_guess() resets the multipliers: the next feedback's QP starts cold, after
+  // prepare() prefactorized it for the empty working set (the crossover names another one)
+  auto& plain = cold_start_pair().plain;
+  auto& crossed = cold_start_pair().crossed;
+  const Eigen::Vector2d x0(0.3, -0.2);
+  for (ColdStartPair::Ctrl* c : {&plain, &crossed}) {
+    ASSERT_EQ(c->set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+    ASSERT_EQ(c->prepare(), NmpcStatus::prepared);
+    NmpcStatus st;
+    {
+      arbor::test::NoAllocScope guard;
+      st = c->feedback(x0);
+    }
+    ASSERT_EQ(st, NmpcStatus::step_taken);
+    EXPECT_EQ(c->info().qp_status, QpStatus::solved);
+  }
+  EXPECT_EQ(plain.info().qp_ipm_iterations, 0);
+  EXPECT_GT(crossed.info().qp_ipm_iterations, 0);
+  const double du = cold_start_pair().input_distance();
+  EXPECT_LT(du, 1e-6);  // the same QP solution (unique: the stage costs are strictly convex)
+  std::printf(
+      "RTI feedback from a reset: %d active-set iterations; with the interior point %d + "
+      "%d; inputs %.1e apart\n",
+      plain.info().qp_iterations, crossed.info().qp_ipm_iterations, crossed.info().qp_iterations,
+      du);
 }
 
 TEST(NmpcColdStart, InfeasibleQpsFailAsWithoutTheInteriorPoint) {

@@ -200,7 +200,9 @@ inline DenseSolver& dense_solver() {
 
 /// (noinline: each size is called once, and GCC would inline them all into the test's body, one
 /// function whose compile time grows faster than its size)
-template <class S, int N, int NX, int NU, int NG, int NGN>
+/// Ipm: also solve each problem by the interior-point cold start (qp/ocp_interior_point.hpp);
+/// on in the per-instruction-set file, off for the host-only sizes (compile time)
+template <class S, int N, int NX, int NU, int NG, int NGN, bool Ipm = true>
 [[gnu::noinline]] void check_size(std::uint64_t seed0, int count, const char* isa) {
   using Qd = arbor::qp::OcpQp<double, N, NX, NU, NG, NGN>;
   using Qs = arbor::qp::OcpQp<S, N, NX, NU, NG, NGN>;
@@ -211,7 +213,6 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
   DenseProblem& dp = dense_problem();
   DenseSolver& dense = dense_solver();
   static arbor::qp::OcpQpSolver<Qs> solver;
-  static arbor::qp::OcpInteriorPoint<Qs> ipm;
   constexpr bool single = sizeof(S) == 4;
   // tolerances: the solver's own (relative 1e-8 / 1e-4) with margin; the point against the
   // dense solution relative to the solution's scale (float: the data's rounding moves it too)
@@ -282,27 +283,31 @@ template <class S, int N, int NX, int NU, int NG, int NGN>
     iters = std::max(iters, solver.info().iterations);
     // the interior-point cold start (qp/ocp_interior_point.hpp) and its crossover: the same
     // (unique: strictly convex) solution as the active set's own cold start
-    QpStatus si;
-    const int cold_iterations = solver.info().iterations;
-    {
-      arbor::test::NoAllocScope guard;
-      arbor::qp::QpSettings<S> settings;
-      settings.max_iter = 5000;
-      su = solver.setup(qs, settings);
-      si = arbor::qp::cold_solve(solver, ipm, qs);
+    if constexpr (Ipm) {
+      static arbor::qp::OcpInteriorPoint<Qs> ipm;
+      QpStatus si;
+      const int cold_iterations = solver.info().iterations;
+      {
+        arbor::test::NoAllocScope guard;
+        arbor::qp::QpSettings<S> settings;
+        settings.max_iter = 5000;
+        su = solver.setup(qs, settings);
+        si = arbor::qp::cold_solve(solver, ipm, qs);
+      }
+      ASSERT_EQ(su, QpStatus::accepted) << "seed " << seed;
+      EXPECT_EQ(si, QpStatus::solved) << "interior-point cold start, seed " << seed;
+      // float may stop at its round-off floor before tol (precision_limit): still crossed over
+      EXPECT_TRUE(arbor::qp::crossover_point(ipm.status()))
+          << arbor::qp::to_string(ipm.status()) << ", seed " << seed;
+      const double dxi = (solver.x().template cast<double>() - x).cwiseAbs().maxCoeff() /
+                         (1 + x.cwiseAbs().maxCoeff());
+      EXPECT_LE(dxi, tx) << "interior-point cold start vs the active set's, seed " << seed;
+      arbor::test::log() << "    seed " << seed << ": interior point "
+                         << arbor::qp::to_string(ipm.status()) << " (" << ipm.info().iterations
+                         << " it), then " << solver.info().iterations
+                         << " active-set it (cold: " << cold_iterations << "), |dx| " << dxi
+                         << "\n";
     }
-    ASSERT_EQ(su, QpStatus::accepted) << "seed " << seed;
-    EXPECT_EQ(si, QpStatus::solved) << "interior-point cold start, seed " << seed;
-    // float may stop at its round-off floor before tol (precision_limit): still crossed over
-    EXPECT_TRUE(arbor::qp::crossover_point(ipm.status()))
-        << arbor::qp::to_string(ipm.status()) << ", seed " << seed;
-    const double dxi = (solver.x().template cast<double>() - x).cwiseAbs().maxCoeff() /
-                       (1 + x.cwiseAbs().maxCoeff());
-    EXPECT_LE(dxi, tx) << "interior-point cold start vs the active set's, seed " << seed;
-    arbor::test::log() << "    seed " << seed << ": interior point "
-                       << arbor::qp::to_string(ipm.status()) << " (" << ipm.info().iterations
-                       << " it), then " << solver.info().iterations
-                       << " active-set it (cold: " << cold_iterations << "), |dx| " << dxi << "\n";
   }
   arbor::test::log() << "  [" << isa << (single ? " float" : " double") << "] N=" << N
                      << " nx=" << NX << " nu=" << NU << " ng=" << NG << " ngn=" << NGN

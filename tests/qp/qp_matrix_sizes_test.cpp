@@ -9,10 +9,10 @@ using qp_matrix::check_size;
 const char* const isa = arbor::test::isa_name();
 
 TEST(QpMatrix, MoreOddSizesDouble) {
-  check_size<double, 1, 1, 1, 0, 0>(100, 4, isa);
-  check_size<double, 2, 13, 5, 1, 0>(600, 3, isa);
-  check_size<double, 1, 15, 8, 0, 3>(700, 4, isa);
-  check_size<double, 2, 17, 2, 4, 1>(800, 3, isa);
+  check_size<double, 1, 1, 1, 0, 0, false>(100, 4, isa);
+  check_size<double, 2, 13, 5, 1, 0, false>(600, 3, isa);
+  check_size<double, 1, 15, 8, 0, 3, false>(700, 4, isa);
+  check_size<double, 2, 17, 2, 4, 1, false>(800, 3, isa);
 }
 TEST(QpMatrix, Issue35CrashSizeFloat) {
   check_size<float, 20, 14, 7, 1, 1>(2500, 2, isa);

@@ -5,8 +5,9 @@
 // ng = 0, ngn = 0 and N = 1 among them; the OCP solver in double and in float against the dense
 // solver in double (padded to one size, up to 56 variables) and a KKT check written in the test.
 // (N, nx, nu, ng, ngn) = (20, 14, 7, 1, 1) is the QP of issue 35's segfault (-march=native,
-// AVX-512: a 32-byte aligned store to an address 16 mod 32 in the Riccati solve). Each problem is
-// also solved by the interior-point cold start and its crossover (qp/ocp_interior_point.hpp).
+// AVX-512: a 32-byte aligned store to an address 16 mod 32 in the Riccati solve). Each problem of
+// this file's sizes (and the float (20, 14, 7, 1, 1) of the other) is also solved by the
+// interior-point cold start and its crossover (qp/ocp_interior_point.hpp).
 // Compile cost: each size is one instantiation of the OCP solver, 20-45 s of compiler time (70 %
 // of it the front end's template instantiation, so -O0 would not save it) and ~0.6 GB. So the
 // sizes are spread over the builds:
