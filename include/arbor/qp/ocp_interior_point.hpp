@@ -26,10 +26,10 @@
 // full step.
 // Cost per iteration: one full factorization of the backend (~10 k multiply-adds per stage at the
 // Kinova size NX = 16, NU = 8; 17 us for 17 stages with AVX-512, bench/qp/RESULTS.md), two
-// solve_exact() and the products with the stage blocks for the residuals. Memory: the backend's
-// factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 14 NI + 6 NV + 2 NA + 3 N NX scalars
-// for the iterate, the directions and the weights (NI = NV + N NG + NGN: the inequalities' index
-// space), NV + NA bytes (~110 KB at the Kinova size in double: a separate workspace, so only a
+// solve_exact() and the backend's products for the residuals (ocp_products.hpp: H v, A v, A' v).
+// Memory: the backend's factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 14 NI + 7 NV +
+// 4 NA + 3 N NX scalars for the iterate, the directions and the weights (NI = NV + N NG + NGN:
+// the inequalities' index space), NV + NA bytes (~110 KB at the Kinova size in double: a separate workspace, so only a
 // program that uses the cold start pays it).
 // Not handled (status unsupported: use the active set's own cold start): equalities other than
 // x_0 (a bound with lb == ub on another variable, a path row with lg == ug).
@@ -122,7 +122,6 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     if (st != IpmStatus::converged)
       return status_ = st;
     for (;;) {
-      row_values(w_, z_);
       const Scalar tau = residuals();
       info_.complementarity = tau;
       if (!std::isfinite(tau) || !std::isfinite(info_.primal_residual) ||
@@ -280,9 +279,9 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
           return IpmStatus::unsupported;
       for (int j = 0; j < NX; ++j)
         scale_ = std::max(scale_, std::abs(st.b[j]));
-      scale_ = std::max(scale_, st.q.cwiseAbs().maxCoeff());
+      g_.template segment<NX>(ox) = st.q;
       if constexpr (NU > 0)
-        scale_ = std::max(scale_, st.r.cwiseAbs().maxCoeff());
+        g_.template segment<NU>(ou) = st.r;
     }
     const auto& t = p.terminal;
     for (int j = 0; j < NX; ++j)
@@ -291,7 +290,8 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     for (int j = 0; j < NGN; ++j)
       if (!bound(row(N) + j, t.lg[j], t.ug[j]))
         return IpmStatus::unsupported;
-    scale_ = std::max(scale_, t.q.cwiseAbs().maxCoeff());
+    g_.template segment<NX>(Problem::state_offset(N)) = t.q;
+    scale_ = std::max(scale_, g_.cwiseAbs().maxCoeff());
     if (!std::isfinite(scale_))
       return IpmStatus::non_finite;
     // the Newton matrix's working set: x_0 fixed, the dynamics rows, every path row (weighted)
@@ -329,24 +329,16 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     return IpmStatus::converged;
   }
 
-  /// z = [v; rows]: the variables, and C x + D u on the path rows (dynamics rows: 0).
-  void row_values(const VecV& v, VecI& z) const {
-    const Problem& p = *p_;
+  /// z = [v; rows]: the variables, and C x + D u on the path rows (the backend's A v; av_ keeps
+  /// all of A v, the dynamics rows x_{k+1} - A x_k - B u_k too).
+  void row_values(const VecV& v, VecI& z) {
+    be_.cons_mul(v, av_);
     z.template head<NV>() = v;
-    for (int k = 0; k < N; ++k) {
-      if constexpr (NG > 0) {
-        const auto& st = p.stage[k];
-        const int og = row(k);
-        z.template segment<NG>(og).noalias() =
-            st.C * v.template segment<NX>(Problem::state_offset(k));
-        if constexpr (NU > 0)
-          z.template segment<NG>(og).noalias() +=
-              st.D * v.template segment<NU>(Problem::input_offset(k));
-      }
+    for (int k = 0; k <= N; ++k) {
+      const int nr = k < N ? NG : NGN;
+      for (int j = 0; j < nr; ++j)
+        z[row(k) + j] = av_[Problem::constraint_offset(k) + j];
     }
-    if constexpr (NGN > 0)
-      z.template segment<NGN>(row(N)).noalias() =
-          p.terminal.C * v.template segment<NX>(Problem::state_offset(N));
   }
 
   /// rw = H w + g + D' nu - sum (lam - mu) a_i (x_0's entries without their equality's
@@ -354,60 +346,27 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// largest residuals in info_.
   Scalar residuals() {
     const Problem& p = *p_;
-    for (int k = 0; k < N; ++k) {
-      const auto& st = p.stage[k];
-      const int ox = Problem::state_offset(k), ou = Problem::input_offset(k);
-      const auto x = w_.template segment<NX>(ox);
-      const auto nuk = nu_.template segment<NX>(k * NX);
-      auto rx = rw_.template segment<NX>(ox);
-      rx.noalias() = st.Q * x;
-      rx += st.q;
-      rx.noalias() -= st.A.transpose() * nuk;
-      if (k > 0)
-        rx += nu_.template segment<NX>((k - 1) * NX);
-      if constexpr (NU > 0) {
-        const auto u = w_.template segment<NU>(ou);
-        rx.noalias() += st.S.transpose() * u;
-        auto ru = rw_.template segment<NU>(ou);
-        ru.noalias() = st.S * x;
-        ru.noalias() += st.R * u;
-        ru += st.r;
-        ru.noalias() -= st.B.transpose() * nuk;
+    row_values(w_, z_);
+    // the flat multipliers of the solvers' convention (H x + g + lam_x + A' lam_a = 0): the
+    // costates on the dynamics rows, mu - lam on the path rows (and on the bounds, below)
+    for (int k = 0; k <= N; ++k) {
+      if (k < N) {
+        la_.template segment<NX>(Problem::dynamics_offset(k)) = nu_.template segment<NX>(k * NX);
+        rdyn_.template segment<NX>(k * NX) =
+            av_.template segment<NX>(Problem::dynamics_offset(k)) - p.stage[k].b;
       }
-      auto rd = rdyn_.template segment<NX>(k * NX);
-      rd = w_.template segment<NX>(Problem::state_offset(k + 1)) - st.b;
-      rd.noalias() -= st.A * x;
-      if constexpr (NU > 0)
-        rd.noalias() -= st.B * w_.template segment<NU>(ou);
-      if constexpr (NG > 0) {
-        const int og = row(k);
-        Eigen::Matrix<Scalar, NG, 1> y;
-        for (int j = 0; j < NG; ++j)
-          y[j] = lam_[og + j] - mu_[og + j];
-        rx.noalias() -= st.C.transpose() * y;
-        if constexpr (NU > 0)
-          rw_.template segment<NU>(ou).noalias() -= st.D.transpose() * y;
-      }
+      const int nr = k < N ? NG : NGN;
+      for (int j = 0; j < nr; ++j)
+        la_[Problem::constraint_offset(k) + j] = mu_[row(k) + j] - lam_[row(k) + j];
     }
-    {
-      const auto& t = p.terminal;
-      const int ox = Problem::state_offset(N);
-      auto rx = rw_.template segment<NX>(ox);
-      rx.noalias() = t.Q * w_.template segment<NX>(ox);
-      rx += t.q + nu_.template segment<NX>((N - 1) * NX);
-      if constexpr (NGN > 0) {
-        const int og = row(N);
-        Eigen::Matrix<Scalar, NGN, 1> y;
-        for (int j = 0; j < NGN; ++j)
-          y[j] = lam_[og + j] - mu_[og + j];
-        rx.noalias() -= t.C.transpose() * y;
-      }
-    }
+    be_.hess_mul(w_, rw_);
+    be_.cons_tmul(la_, fw_);  // (fw_: scratch until direction())
+    rw_ += g_ + fw_;
     Scalar pr = rdyn_.cwiseAbs().maxCoeff(), comp = 0;
     for (int i = 0; i < NI; ++i) {
       rsl_[i] = rsu_[i] = Scalar(0);
       if (i < NV)
-        rw_[i] -= lam_[i] - mu_[i];
+        rw_[i] += mu_[i] - lam_[i];
       if (kind_[i] & kLower) {
         rsl_[i] = z_[i] - lb_[i] - sl_[i];
         pr = std::max(pr, std::abs(rsl_[i]));
@@ -530,13 +489,14 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   std::array<std::uint8_t, NI> kind_{};
   VecI lb_, ub_, z_, sl_, su_, lam_, mu_, dsl_, dsu_, dlam_, dmu_, rsl_, rsu_;
   VecI cz_;  ///< scratch: the weights, the right-hand side's coefficients, the direction's values
-  VecV w_, dw_, rw_, fw_;
+  VecV w_, dw_, rw_, fw_, g_;  ///< iterate, step, stationarity residual, scratch, gradient
   Costates nu_, dnu_, rdyn_;
   /// the Newton matrix's factorization: the active-set solver's Riccati backend
   detail::OcpRiccatiBackend<Scalar, N, NX, NU, NG, NGN> be_;
   std::array<detail::ConstraintState, NV + NA> ws_{};  ///< x_0 fixed, dynamics and rows held
   VecV bw_, fixed_;                                    ///< bound weights; fixed steps (x_0: 0)
   VecA wa_, ea_;  ///< row weights; the dynamics' right-hand side, then the costate steps
+  VecA av_, la_;  ///< A v of the last row_values(); the flat row multipliers
 };
 
 /// True when the interior point's status gives a crossover point (converged, precision_limit).
