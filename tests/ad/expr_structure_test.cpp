@@ -81,6 +81,50 @@ TEST(ExprStructure, DirectionSetsFollowTheArguments) {
   EXPECT_EQ(deps9(l), dirs({0, 1, 2, 3, 4, 5, 6, 7, 8}));
 }
 
+TEST(ExprStructure, RowPatternsFollowTheStackedParts) {
+  // row patterns (ocp/linearize.hpp's Gauss-Newton products use them): a cat stacks its parts'
+  // rows; a seeded symbol's (or segment's) row has its one direction; any other node's rows have
+  // the node's directions; a parameter's rows none. Written out by hand.
+  const auto e = ad::cat(ad::element<5>(x) * ad::sin(ad::element<0>(u)), ad::segment<1, 2>(u), p,
+                         ad::segment<3, 2>(x), ad::segment<0, 1>(ad::cat(x, u)));
+  using E = std::remove_cvref_t<decltype(e)>;
+  constexpr auto rows = ad::detail::row_deps<Env9, E>();
+  static_assert(rows.size() == 8);
+  EXPECT_EQ(rows[0], dirs({5, 6}));
+  EXPECT_EQ(rows[1], dirs({7}));
+  EXPECT_EQ(rows[2], dirs({8}));
+  EXPECT_EQ(rows[3], dirs({}));
+  EXPECT_EQ(rows[4], dirs({}));
+  EXPECT_EQ(rows[5], dirs({3}));
+  EXPECT_EQ(rows[6], dirs({4}));
+  EXPECT_EQ(rows[7], dirs({0, 1, 2, 3, 4, 5, 6, 7, 8}));  // a segment of a cat: the cat's set
+  constexpr auto pat = ad::detail::row_pattern<8, 9>(rows);
+  EXPECT_EQ(pat.count[0], 2);
+  EXPECT_EQ(pat.cols[0][0], 5);
+  EXPECT_EQ(pat.cols[0][1], 6);
+  EXPECT_EQ(pat.count[3], 0);
+  EXPECT_EQ(pat.cols[6][0], 4);
+  EXPECT_EQ(pat.count[7], 9);
+  // every entry of the Jacobian outside the pattern is zero; inside it (rows 0..6, where the
+  // pattern is exact) none is at this point
+  Vec<6> xv;
+  xv << 0.3, -0.7, 1.1, 0.4, -0.2, 0.9;
+  const Vec<3> uv(0.5, -1.3, 0.8);
+  const Vec<2> pv(2.0, -3.0);
+  NoAllocScope guard;
+  const Mat<8, 9> J = ad::jacobian<0, 1>(e, xv, uv, pv);
+  for (int i = 0; i < 8; ++i) {
+    for (int k = 0; k < 9; ++k) {
+      if (!rows[std::size_t(i)][std::size_t(k)]) {
+        EXPECT_EQ(J(i, k), 0.0) << i << "," << k;
+      } else if (i < 7) {
+        EXPECT_NE(J(i, k), 0.0) << i << "," << k;
+      }
+    }
+  }
+  EXPECT_EQ(J(7, 0), 1.0);
+}
+
 /// f(a, b) = [a0 a1 sin(b0), a0^2 + b0 a2] with a = x[1..3], b = u[2].
 struct Body {
   int* directions = nullptr;  // records the body's scalar's number of directions (outer level)

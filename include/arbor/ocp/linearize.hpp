@@ -17,8 +17,10 @@
 // Lagrangian is f + lam_dyn' (x_{k+1} - F) + mu' g.
 // Cost per path stage: one evaluation of F and of each inner function at Dual<T, nx + nu> (in one
 // environment: the arguments are seeded once), and the Gauss-Newton products: with the provided
-// outer functions (diagonal Hessians) sum_i nnz_i^2 / 2 multiply-adds over the nonzero entries
-// of each row of J (the lower triangle; mirrored once), else O(rows^2 n + rows n^2); exact
+// outer functions (diagonal Hessians) sum_i nnz_i^2 / 2 multiply-adds over the structurally
+// nonzero entries of each row of J (known at compile time from the expression: a stacked
+// residual's input and state rows have one; the lower triangle, mirrored once), else
+// O(rows^2 n + rows n^2); the gradient J' grad phi over the same entries; exact
 // Hessians add one evaluation of the Lagrangian at Dual<Dual<T, n>, n> and an n x n
 // eigen-decomposition.
 #pragma once
@@ -34,6 +36,7 @@
 #include "arbor/ad/expr/elementwise.hpp"
 #include "arbor/ad/expr/evaluate.hpp"
 #include "arbor/ad/expr/reductions.hpp"
+#include "arbor/ad/expr/structure.hpp"
 #include "arbor/ocp/outer.hpp"
 #include "arbor/ocp/problem.hpp"
 #include "arbor/qp/problem.hpp"
@@ -76,13 +79,15 @@ void for_each_term(const Tuple& t, F&& f) {
 
 /// The lower triangle of hess += scale J' grad^2 phi(r) J (the Gauss-Newton term of an outer
 /// function phi of an m-row inner function with Jacobian J, m x n); the strict upper triangle of
-/// hess is not touched (symmetrize_lower() completes it once all terms are in). With a diagonal
-/// Hessian (DiagonalHessian) the product is a sum of rank-one updates h_i J_i' J_i over the
-/// nonzero entries of each row J_i (rows of a stacked residual typically depend on a few
-/// variables: an input, a state, the joints): O(sum_i nnz_i^2) instead of O(m^2 n + m n^2);
-/// otherwise H J is formed first (lazy products: no general matrix-product kernel for these fixed
-/// small sizes). Exact zeros of J are skipped, which changes nothing but the order of the sums.
-template <class Phi, class T, int m, int n>
+/// hess is not touched (symmetrize_lower() completes it once all terms are in). Pat (an
+/// ad::detail::RowPattern) lists, per row of J, the columns that may be nonzero (the expression's
+/// structure, known at compile time: a row of a stacked residual typically depends on a few
+/// variables, an input, a state, the joints). With a diagonal Hessian (DiagonalHessian) the
+/// product is a sum of rank-one updates h_i J_i' J_i over those columns of each row J_i:
+/// O(sum_i nnz_i^2) instead of O(m^2 n + m n^2) (entries that are zero at the point are skipped
+/// too, which changes nothing but the order of the sums); otherwise H J is formed first (lazy
+/// products: no general matrix-product kernel for these fixed small sizes).
+template <auto Pat, class Phi, class T, int m, int n>
 void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& r,
                             const Eigen::Matrix<T, m, n>& J, T scale) {
   if constexpr (DiagonalHessian<Phi, T, m>) {
@@ -93,8 +98,11 @@ void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& 
       const T hi = scale * h[i];
       if (hi == T(0))
         continue;
+      // the row's entries in the pattern that are not zero at this point (a pattern may be a
+      // superset: an unanalysed node's rows have every direction)
       int c = 0;
-      for (int k = 0; k < n; ++k) {
+      for (int a = 0; a < Pat.count[std::size_t(i)]; ++a) {
+        const int k = Pat.cols[std::size_t(i)][std::size_t(a)];
         const T v = J(i, k);
         if (v != T(0)) {
           idx[c] = k;
@@ -115,6 +123,24 @@ void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& 
         hess(a, b) += scale * J.col(a).dot(HJ.col(b));
   }
 }
+
+/// grad += J' g over the columns of each row of J that Pat lists (see add_gauss_newton_lower).
+template <auto Pat, class T, int m, int n>
+void add_transposed_product(VecN<T, n>& grad, const Eigen::Matrix<T, m, n>& J,
+                            const VecN<T, m>& g) {
+  for (int i = 0; i < m; ++i) {
+    const T gi = g[i];
+    const int c = Pat.count[std::size_t(i)];
+    const auto& idx = Pat.cols[std::size_t(i)];
+    for (int a = 0; a < c; ++a)
+      grad[idx[std::size_t(a)]] += J(i, idx[std::size_t(a)]) * gi;
+  }
+}
+
+/// The row pattern (ad::detail::RowPattern) of expression E's Jacobian in environment Env.
+template <class Env, class E>
+inline constexpr auto jacobian_pattern =
+    ad::detail::row_pattern<E::rows, Env::Scalar::directions>(ad::detail::row_deps<Env, E>());
 
 /// Copies the lower triangle of hess to its upper triangle.
 template <class T, int n>
@@ -200,12 +226,14 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
     }
   }
 
+  using Env = std::remove_cvref_t<decltype(env)>;
   detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
     constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
+    constexpr auto pat = detail::jacobian_pattern<Env, decltype(c.r)>;
     const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
-    grad.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
+    detail::add_transposed_product<pat>(grad, J, c.phi.template gradient<T, m>(rv));
     if constexpr (H == HessianKind::gauss_newton)
-      detail::add_gauss_newton_lower(hess, c.phi, VecN<T, m>(rv), J, T(1));
+      detail::add_gauss_newton_lower<pat>(hess, c.phi, VecN<T, m>(rv), J, T(1));
   });
 
   if constexpr (P::ng == 0) {  // the free row
@@ -236,7 +264,8 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       mu[nl] = mui;
       if constexpr (H == HessianKind::gauss_newton) {
         if (mui > T(0))
-          detail::add_gauss_newton_lower(hess, c.psi, VecN<T, m>(cv), J, mui);
+          detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
+              hess, c.psi, VecN<T, m>(cv), J, mui);
       }
       if constexpr (C::soft) {
         st.D(row, nu + slack) = T(-1);
@@ -302,12 +331,15 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
   const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();  // terminal terms do not depend on u
   t.Q.setZero();
   t.q.setZero();
+  const auto env = ad::detail::jacobian_env<0>(x, u0, p);  // x seeded at Dual<T, nx>
+  using Env = std::remove_cvref_t<decltype(env)>;
   detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
     constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    const auto [rv, J] = ad::value_and_jacobian<0>(c.r, x, u0, p);
-    t.q.noalias() += J.transpose() * c.phi.template gradient<T, m>(rv);
+    constexpr auto pat = detail::jacobian_pattern<Env, decltype(c.r)>;
+    const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
+    detail::add_transposed_product<pat>(t.q, J, c.phi.template gradient<T, m>(rv));
     if constexpr (H == HessianKind::gauss_newton)
-      detail::add_gauss_newton_lower(t.Q, c.phi, VecN<T, m>(rv), J, T(1));
+      detail::add_gauss_newton_lower<pat>(t.Q, c.phi, VecN<T, m>(rv), J, T(1));
   });
   if constexpr (P::ngn == 0) {  // the free row
     t.C.setZero();
@@ -320,19 +352,20 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
     using C = std::remove_cvref_t<decltype(c)>;
     if constexpr (detail::is_convex_constraint_v<C>) {
       constexpr int m = decltype(c.c)::rows;
-      const auto [cv, J] = ad::value_and_jacobian<0>(c.c, x, u0, p);
+      const auto [cv, J] = ad::detail::value_and_jacobian_in(env, c.c);
       t.C.row(row) = c.psi.template gradient<T, m>(cv).transpose() * J;
       t.lg[row] = -inf;
       t.ug[row] = -c.psi.template value<T, m>(cv);
       mu[row] = lam_g[row];
       if constexpr (H == HessianKind::gauss_newton) {
         if (lam_g[row] > T(0))
-          detail::add_gauss_newton_lower(t.Q, c.psi, VecN<T, m>(cv), J, T(lam_g[row]));
+          detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
+              t.Q, c.psi, VecN<T, m>(cv), J, T(lam_g[row]));
       }
       ++row;
     } else {
       constexpr int m = C::rows;
-      const auto [gv, J] = ad::value_and_jacobian<0>(c.g, x, u0, p);
+      const auto [gv, J] = ad::detail::value_and_jacobian_in(env, c.g);
       t.C.template middleRows<m>(row) = J;
       for (int i = 0; i < m; ++i) {
         t.lg[row + i] = T(c.lg[std::size_t(i)]) - gv[i];

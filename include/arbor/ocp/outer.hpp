@@ -11,8 +11,8 @@
 // function whose Hessian is diagonal may also provide
 //   VecN<T, M> hessian_diagonal(const VecN<T, M>& r)   the diagonal of grad^2 phi(r)
 // (DiagonalHessian below); the Gauss-Newton product J' grad^2 phi J is then a sum of rank-one
-// updates over the nonzero entries of each row of J (ocp/linearize.hpp) instead of a dense
-// triple product. Provided:
+// updates over the structurally nonzero entries of each row of J (ocp/linearize.hpp) instead of
+// a dense triple product. Provided:
 //   WeightedSquares<M>  sum_i w_i r_i^2, w_i >= 0    (least squares; "weights multiply squares")
 //   Ball<M>             |r|^2 - rho^2                (a tunnel |e| <= rho, as psi <= 0)
 // Cost: O(M) per value or gradient, O(M^2) per Hessian.

@@ -1,5 +1,6 @@
 // arbor: parts and stacks of expressions: segment<Start, Len>(a), element<I>(a), cat(a, b, ...)
-// (vertical concatenation). Cost: copies of the selected or stacked elements, no arithmetic.
+// (vertical concatenation). Cost: copies of the selected or stacked elements, no arithmetic (a
+// segment stacked by cat is copied once, from its operand).
 #pragma once
 
 #include <tuple>
@@ -13,9 +14,10 @@ namespace arbor::ad {
 template <int Start, int Len, Expression A>
 struct SegmentExpr {
   static_assert(Start >= 0 && Len >= 1 && Start + Len <= A::rows, "segment out of range");
-  using expression_tag = void;      ///< marks an expression node
-  static constexpr int rows = Len;  ///< size
-  A arg;                            ///< operand
+  using expression_tag = void;                 ///< marks an expression node
+  static constexpr int rows = Len;             ///< size
+  static constexpr int segment_start = Start;  ///< first element taken
+  A arg;                                       ///< operand
   /// The segment.
   template <class Env>
   Values<typename Env::Scalar, Len> eval(const Env& env) const {
@@ -40,10 +42,17 @@ struct CatExpr {
     Values<typename Env::Scalar, rows> r;
     int off = 0;
     auto put = [&](const auto& p) {
-      const auto& v = p.eval(env);
-      for (int i = 0; i < std::remove_cvref_t<decltype(p)>::rows; ++i)
-        r[off + i] = v[i];
-      off += std::remove_cvref_t<decltype(p)>::rows;
+      using P = std::remove_cvref_t<decltype(p)>;
+      if constexpr (requires { P::segment_start; }) {  // a segment: straight from its operand
+        const auto& v = p.arg.eval(env);               // (a symbol's is a reference: one copy)
+        for (int i = 0; i < P::rows; ++i)
+          r[off + i] = v[P::segment_start + i];
+      } else {
+        const auto& v = p.eval(env);
+        for (int i = 0; i < P::rows; ++i)
+          r[off + i] = v[i];
+      }
+      off += P::rows;
     };
     std::apply([&](const auto&... p) { (put(p), ...); }, parts);
     return r;

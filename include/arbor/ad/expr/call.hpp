@@ -24,10 +24,12 @@
 // their share of the chain rule is a copy of J's columns (summed for an argument used twice), so
 // with only such parts the node's Jacobian costs exactly the provider; the other parts (e.g. the
 // substituted state of an RK4 stage, ocp/rk4.hpp) cost one product and sum per column, per
-// direction those parts depend on (known at compile time, expr/structure.hpp), per entry of J
-// that is not identically zero (F::jacobian_nonzero() when F provides it, as generated user
-// functions do: ad/user_function.hpp); at most K nout products per column. An input made
-// of arguments and segments of them is read in place (no stacked copy). Because T may itself be a
+// direction those parts depend on (known at compile time, expr/structure.hpp; with SIMD, their
+// contiguous range when it is at most a quarter larger, so that the loop over them vectorizes), per
+// entry of J that is not identically zero (F::jacobian_nonzero() when F provides it, as generated
+// user functions do: ad/user_function.hpp); at most K nout products per column. The parts of the
+// input that are arguments or segments of them are read in place (no stacked copy); only the
+// others are evaluated and copied. Because T may itself be a
 // Dual, the same node gives Hessians: with the RBD function objects, Tag Analytical runs the
 // analytical first-order routine in Dual arithmetic (the paper's H^a), AutoDiff runs nested duals
 // through the RBD templates (H^c).
@@ -176,6 +178,36 @@ void symbol_elements(const Env& env, const S** px) {
   (std::make_index_sequence<std::tuple_size_v<Parts>>{});
 }
 
+/// px[j] = the j-th element of a concatenated input with some parts that are not symbols: the
+/// symbol parts (and segments of one) in place, the others evaluated into their rows of xs (one
+/// copy of those parts only, none of the symbols').
+template <class... P, class Env, class S, int N>
+void mixed_elements(const CatExpr<P...>& arg, const Env& env, Values<S, N>& xs, const S** px) {
+  int col = 0;
+  auto one = [&](const auto& part) {
+    using Q = std::remove_cvref_t<decltype(part)>;
+    if constexpr (CallPart<Q>::id >= 0) {
+      const auto& a = env.template arg<CallPart<Q>::id>();
+      for (int j = 0; j < Q::rows; ++j)
+        px[col + j] = &a[CallPart<Q>::start + j];
+    } else {
+      const auto& v = part.eval(env);
+      for (int j = 0; j < Q::rows; ++j) {
+        xs[col + j] = v[j];
+        px[col + j] = &xs[col + j];
+      }
+    }
+    col += Q::rows;
+  };
+  std::apply([&](const auto&... part) { (one(part), ...); }, arg.parts);
+}
+template <class A, class Env, class S, int N>
+void mixed_elements(const A& arg, const Env& env, Values<S, N>& xs, const S** px) {
+  xs = arg.eval(env);
+  for (int j = 0; j < N; ++j)
+    px[j] = &xs[j];
+}
+
 /// out[i].d[offset + j] += J(i, col + j) for every seeded part (its seeds are unit vectors: the
 /// chain rule is a scatter of J's columns; parameters contribute nothing).
 template <class Env, class A, class S, int M, class JM>
@@ -227,17 +259,15 @@ struct CallExpr {
     if constexpr (is_dual_v<S>) {
       using T = typename S::Value;
       constexpr int K = S::directions;
-      // the input's elements: in place when its parts are symbols (or segments of one), else
-      // from its evaluation
+      // the input's elements: its parts that are symbols (or segments of one) in place, the
+      // others from their evaluation
       const S* px[nin];
       struct None {};
       [[maybe_unused]] std::conditional_t<detail::all_symbol_parts<A>(), None, Values<S, nin>> xs;
       if constexpr (detail::all_symbol_parts<A>()) {
         detail::symbol_elements<A>(env, px);
       } else {
-        xs = arg.eval(env);
-        for (int j = 0; j < nin; ++j)
-          px[j] = &xs[j];
+        detail::mixed_elements(arg, env, xs, px);
       }
       VecN<T, nin> xv;
       for (int j = 0; j < nin; ++j)
@@ -246,53 +276,85 @@ struct CallExpr {
       Eigen::Matrix<T, rows, nin> J = Eigen::Matrix<T, rows, nin>::Zero();  // (set by f)
       f.template value_and_jacobian<Tag, T>(xv, yv, J);
       // d = J x.d: the parts of x that are seeded symbols (unit seeds, known at compile time)
-      // scatter J's columns; the others (general derivatives) multiply, all rows of one
-      // direction at a time (the row accumulators stay in registers)
+      // scatter J's columns; the others (general derivatives) multiply: row i of d is
+      // sum_g J(i, g) x_g.d over the general columns g, a multiply-add of whole derivative arrays
+      // (contiguous in the directions: SIMD along them, the row's accumulator in registers)
       using G = detail::GeneralColumns<Env, A>;
       for (int i = 0; i < rows; ++i)
         out[i] = S(yv[i]);
       if constexpr (G::count > 0) {
-        // the general columns of J, contiguous, and their input elements; only the directions
-        // the general parts depend on (the others stay zero) and the entries of J that are not
-        // identically zero (F::jacobian_nonzero(), if F knows them)
+        // only the directions the general parts depend on (the others are zero for them) and the
+        // entries of J that are not identically zero (F::jacobian_nonzero(), if F knows them)
         constexpr int ng = G::count;
         constexpr auto dirs = detail::general_directions<Env, A>();
         constexpr int kg = detail::count<K>(dirs);
         constexpr auto kept = detail::kept_directions<K, kg>(dirs);
+        constexpr int k0 = kg > 0 ? kept[0] : 0;
+        constexpr int kn = kg > 0 ? kept[std::size_t(kg - 1)] + 1 - k0 : 0;
         constexpr auto nz = detail::jacobian_nonzero<F>();
-        T jg[ng][rows];
-        const S* xg[ng];
-        for (int g = 0; g < ng; ++g) {
-          const int j = G::cols[std::size_t(g)];
-          xg[g] = px[j];
-          for (int i = 0; i < rows; ++i)
-            jg[g][i] = J(i, j);
-        }
-        for (int a = 0; a < kg; ++a) {
-          const int k = kept[std::size_t(a)];
-          T acc[rows];
-          for (int i = 0; i < rows; ++i)
-            acc[i] = T(0);
-          [&]<std::size_t... Gs>(std::index_sequence<Gs...>) {
-            auto column = [&](auto gc) {
-              constexpr int g = int(decltype(gc)::value);
-              constexpr int j = G::cols[std::size_t(g)];
-              const T xj = xg[g]->d[k];
-              [&]<std::size_t... Is>(std::index_sequence<Is...>) {
-                auto entry = [&](auto ic) {
-                  constexpr int i = int(decltype(ic)::value);
-                  if constexpr (nz[std::size_t(j * rows + i)])
-                    acc[i] += jg[g][i] * xj;
+        // Two orders. With SIMD registers and the directions contiguous (their range [k0, k0 +
+        // kn) at most a quarter larger than the kept set: the gaps' entries are zero for these
+        // parts, a few wasted products): row by row, along the directions (the loop vectorizes,
+        // the row's accumulators stay in registers). Otherwise (no SIMD, e.g. a Cortex-M, or
+        // scattered directions): direction by direction, the rows' accumulators in registers.
+        constexpr int lanes = detail::simd_bytes / int(sizeof(detail::base_t<T>));
+        if constexpr (lanes > 1 && kg > 0 && 4 * kn <= 5 * kg) {
+          [&]<std::size_t... Is>(std::index_sequence<Is...>) {
+            auto row = [&](auto ic) {
+              constexpr int i = int(decltype(ic)::value);
+              T acc[kn];  // acc[k - k0]: direction k
+              for (int k = 0; k < kn; ++k)
+                acc[k] = T(0);
+              [&]<std::size_t... Gs>(std::index_sequence<Gs...>) {
+                auto column = [&](auto gc) {
+                  constexpr int j = G::cols[std::size_t(decltype(gc)::value)];
+                  if constexpr (nz[std::size_t(j * rows + i)]) {
+                    const T a = J(i, j);
+                    const T* x = px[j]->d + k0;
+                    for (int k = 0; k < kn; ++k)
+                      acc[k] += a * x[k];
+                  }
                 };
-                (entry(std::integral_constant<std::size_t, Is>{}), ...);
+                (column(std::integral_constant<std::size_t, Gs>{}), ...);
               }
-              (std::make_index_sequence<std::size_t(rows)>{});
+              (std::make_index_sequence<std::size_t(ng)>{});
+              for (int k = 0; k < kn; ++k)
+                out[i].d[k0 + k] = acc[k];
             };
-            (column(std::integral_constant<std::size_t, Gs>{}), ...);
+            (row(std::integral_constant<std::size_t, Is>{}), ...);
           }
-          (std::make_index_sequence<std::size_t(ng)>{});
-          for (int i = 0; i < rows; ++i)
-            out[i].d[k] = acc[i];
+          (std::make_index_sequence<std::size_t(rows)>{});
+        } else {
+          T jg[ng][rows];
+          for (int g = 0; g < ng; ++g)
+            for (int i = 0; i < rows; ++i)
+              jg[g][i] = J(i, G::cols[std::size_t(g)]);
+          for (int c = 0; c < kg; ++c) {
+            const int k = kept[std::size_t(c)];
+            T acc[rows];
+            for (int i = 0; i < rows; ++i)
+              acc[i] = T(0);
+            [&]<std::size_t... Gs>(std::index_sequence<Gs...>) {
+              auto column = [&](auto gc) {
+                constexpr int g = int(decltype(gc)::value);
+                constexpr int j = G::cols[std::size_t(g)];
+                const T xj = px[j]->d[k];
+                [&]<std::size_t... Is>(std::index_sequence<Is...>) {
+                  auto entry = [&](auto ic) {
+                    constexpr int i = int(decltype(ic)::value);
+                    if constexpr (nz[std::size_t(j * rows + i)])
+                      acc[i] += jg[g][i] * xj;
+                  };
+                  (entry(std::integral_constant<std::size_t, Is>{}), ...);
+                }
+                (std::make_index_sequence<std::size_t(rows)>{});
+              };
+              (column(std::integral_constant<std::size_t, Gs>{}), ...);
+            }
+            (std::make_index_sequence<std::size_t(ng)>{});
+            for (int i = 0; i < rows; ++i)
+              out[i].d[k] = acc[i];
+          }
         }
       }
       detail::scatter_seeded<Env, A>(out, J);

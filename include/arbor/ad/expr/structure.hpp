@@ -336,4 +336,79 @@ S scatter(const C& c) {
   }
 }
 
+/// RowDeps<E>::get<Env>(): per row of E, a superset of the outer-level directions it depends on
+/// (a Jacobian's structural pattern by rows). Primary: every row has E's directions; a cat stacks
+/// its parts' rows; a seeded symbol (or a segment of one) has one direction per row.
+template <class E>
+struct RowDeps {
+  template <class Env>
+  static constexpr auto get() {
+    constexpr int n = outer_directions<typename Env::Scalar>();
+    std::array<DirSet<n>, std::size_t(E::rows)> r{};
+    for (auto& row : r)
+      row = deps_of<Env, E>();
+    return r;
+  }
+};
+template <int St, int L, int Id, int N>
+struct RowDeps<SegmentExpr<St, L, Symbol<Id, N>>> {
+  template <class Env>
+  static constexpr auto get() {
+    constexpr int n = outer_directions<typename Env::Scalar>();
+    std::array<DirSet<n>, std::size_t(L)> r{};
+    if constexpr (!unit_seeds<Env, Id>()) {
+      for (auto& row : r)
+        row = all_directions<n>();
+    } else if constexpr (Env::template offset<Id>() >= 0) {
+      for (int i = 0; i < L; ++i)
+        r[std::size_t(i)][std::size_t(Env::template offset<Id>() + St + i)] = true;
+    }
+    return r;
+  }
+};
+template <int Id, int N>
+struct RowDeps<Symbol<Id, N>> {
+  template <class Env>
+  static constexpr auto get() {
+    return RowDeps<SegmentExpr<0, N, Symbol<Id, N>>>::template get<Env>();
+  }
+};
+template <class... A>
+struct RowDeps<CatExpr<A...>> {
+  template <class Env>
+  static constexpr auto get() {
+    constexpr int n = outer_directions<typename Env::Scalar>();
+    std::array<DirSet<n>, std::size_t((A::rows + ...))> r{};
+    std::size_t at = 0;
+    auto put = [&](const auto& part) {
+      for (const auto& row : part)
+        r[at++] = row;
+    };
+    (put(RowDeps<A>::template get<Env>()), ...);
+    return r;
+  }
+};
+
+/// The directions each row of E depends on in Env (std::array of E::rows DirSets).
+template <class Env, class E>
+constexpr auto row_deps() {
+  return RowDeps<std::remove_cvref_t<E>>::template get<Env>();
+}
+
+/// A row pattern as index lists: cols[i][0 .. count[i]) are the directions row i depends on.
+template <int M, int N>
+struct RowPattern {
+  std::array<int, std::size_t(M)> count{};                             ///< per row
+  std::array<std::array<int, std::size_t(N)>, std::size_t(M)> cols{};  ///< per row, ascending
+};
+template <int M, int N>
+constexpr RowPattern<M, N> row_pattern(const std::array<DirSet<N>, std::size_t(M)>& deps) {
+  RowPattern<M, N> p{};
+  for (std::size_t i = 0; i < std::size_t(M); ++i)
+    for (int k = 0; k < N; ++k)
+      if (deps[i][std::size_t(k)])
+        p.cols[i][std::size_t(p.count[i]++)] = k;
+  return p;
+}
+
 }  // namespace arbor::ad::detail
