@@ -29,8 +29,8 @@
 // solve_exact() and the backend's products for the residuals (ocp_products.hpp: H v, A v, A' v).
 // Memory: the backend's factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 14 NI + 7 NV +
 // 4 NA + 3 N NX scalars for the iterate, the directions and the weights (NI = NV + N NG + NGN:
-// the inequalities' index space), NV + NA bytes (~110 KB at the Kinova size in double: a separate workspace, so only a
-// program that uses the cold start pays it).
+// the inequalities' index space), NV + NA bytes (~110 KB at the Kinova size in double: a
+// separate workspace, so only a program that uses the cold start pays it).
 // Not handled (status unsupported: use the active set's own cold start): equalities other than
 // x_0 (a bound with lb == ub on another variable, a path row with lg == ug).
 // Sign conventions as OcpQpSolver: a flat multiplier > 0 means "upper bound active", and

@@ -160,29 +160,21 @@ constexpr bool all_symbol_parts() {
   }(std::type_identity<typename CallParts<A>::type>{});
 }
 
-/// px[j] = the j-th element of the input (all parts symbols or segments of one), in place.
-template <class A, class Env, class S>
-void symbol_elements(const Env& env, const S** px) {
-  using Parts = typename CallParts<A>::type;
-  int col = 0;
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
-    auto one = [&](auto part) {
-      using P = typename decltype(part)::type;
-      const auto& a = env.template arg<CallPart<P>::id>();
-      for (int j = 0; j < P::rows; ++j)
-        px[col + j] = &a[CallPart<P>::start + j];
-      col += P::rows;
-    };
-    (one(std::type_identity<std::tuple_element_t<I, Parts>>{}), ...);
-  }
-  (std::make_index_sequence<std::tuple_size_v<Parts>>{});
+/// The operands of a call node's input, as a tuple of references (a cat's parts, or the input).
+template <class... P>
+auto call_parts(const CatExpr<P...>& arg) {
+  return std::apply([](const auto&... part) { return std::tie(part...); }, arg.parts);
+}
+template <class A>
+auto call_parts(const A& arg) {
+  return std::tie(arg);
 }
 
-/// px[j] = the j-th element of a concatenated input with some parts that are not symbols: the
-/// symbol parts (and segments of one) in place, the others evaluated into their rows of xs (one
-/// copy of those parts only, none of the symbols').
-template <class... P, class Env, class S, int N>
-void mixed_elements(const CatExpr<P...>& arg, const Env& env, Values<S, N>& xs, const S** px) {
+/// px[j] = the j-th element of the input: its parts that are symbols (or segments of one) in
+/// place in the environment, the others evaluated into their rows of xs (one copy of those parts
+/// only; xs is unused when every part is a symbol).
+template <class A, class Env, class S, class Xs>
+void input_elements(const A& arg, const Env& env, Xs& xs, const S** px) {
   int col = 0;
   auto one = [&](const auto& part) {
     using Q = std::remove_cvref_t<decltype(part)>;
@@ -199,13 +191,7 @@ void mixed_elements(const CatExpr<P...>& arg, const Env& env, Values<S, N>& xs, 
     }
     col += Q::rows;
   };
-  std::apply([&](const auto&... part) { (one(part), ...); }, arg.parts);
-}
-template <class A, class Env, class S, int N>
-void mixed_elements(const A& arg, const Env& env, Values<S, N>& xs, const S** px) {
-  xs = arg.eval(env);
-  for (int j = 0; j < N; ++j)
-    px[j] = &xs[j];
+  std::apply([&](const auto&... part) { (one(part), ...); }, call_parts(arg));
 }
 
 /// out[i].d[offset + j] += J(i, col + j) for every seeded part (its seeds are unit vectors: the
@@ -264,11 +250,7 @@ struct CallExpr {
       const S* px[nin];
       struct None {};
       [[maybe_unused]] std::conditional_t<detail::all_symbol_parts<A>(), None, Values<S, nin>> xs;
-      if constexpr (detail::all_symbol_parts<A>()) {
-        detail::symbol_elements<A>(env, px);
-      } else {
-        detail::mixed_elements(arg, env, xs, px);
-      }
+      detail::input_elements(arg, env, xs, px);
       VecN<T, nin> xv;
       for (int j = 0; j < nin; ++j)
         xv[j] = px[j]->v;

@@ -354,16 +354,10 @@ template <int St, int L, int Id, int N>
 struct RowDeps<SegmentExpr<St, L, Symbol<Id, N>>> {
   template <class Env>
   static constexpr auto get() {
-    constexpr int n = outer_directions<typename Env::Scalar>();
-    std::array<DirSet<n>, std::size_t(L)> r{};
-    if constexpr (!unit_seeds<Env, Id>()) {
-      for (auto& row : r)
-        row = all_directions<n>();
-    } else if constexpr (Env::template offset<Id>() >= 0) {
-      for (int i = 0; i < L; ++i)
-        r[std::size_t(i)][std::size_t(Env::template offset<Id>() + St + i)] = true;
+    return []<std::size_t... I>(std::index_sequence<I...>) {
+      return std::array{argument_directions<Env, Id, St + int(I), 1>()...};
     }
-    return r;
+    (std::make_index_sequence<std::size_t(L)>{});
   }
 };
 template <int Id, int N>
