@@ -86,10 +86,10 @@ TEST(ExprStructure, RowPatternsFollowTheStackedParts) {
   // rows; a seeded symbol's (or segment's) row has its one direction; any other node's rows have
   // the node's directions; a parameter's rows none. Written out by hand.
   const auto e = ad::cat(ad::element<5>(x) * ad::sin(ad::element<0>(u)), ad::segment<1, 2>(u), p,
-                         ad::segment<3, 2>(x), ad::segment<0, 1>(ad::cat(x, u)));
+                         ad::segment<3, 2>(x), ad::segment<0, 1>(ad::cat(x, u)), ad::element<2>(x));
   using E = std::remove_cvref_t<decltype(e)>;
   constexpr auto rows = ad::detail::row_deps<Env9, E>();
-  static_assert(rows.size() == 8);
+  static_assert(rows.size() == 9);
   EXPECT_EQ(rows[0], dirs({5, 6}));
   EXPECT_EQ(rows[1], dirs({7}));
   EXPECT_EQ(rows[2], dirs({8}));
@@ -98,26 +98,31 @@ TEST(ExprStructure, RowPatternsFollowTheStackedParts) {
   EXPECT_EQ(rows[5], dirs({3}));
   EXPECT_EQ(rows[6], dirs({4}));
   EXPECT_EQ(rows[7], dirs({0, 1, 2, 3, 4, 5, 6, 7, 8}));  // a segment of a cat: the cat's set
-  constexpr auto pat = ad::detail::row_pattern<8, 9>(rows);
+  EXPECT_EQ(rows[8], dirs({2}));                          // a one-row segment of a symbol
+  constexpr auto one = ad::detail::row_deps<Env9, decltype(ad::element<2>(x))>();
+  static_assert(one.size() == 1);
+  EXPECT_EQ(one[0], dirs({2}));
+  constexpr auto pat = ad::detail::row_pattern<9, 9>(rows);
   EXPECT_EQ(pat.count[0], 2);
   EXPECT_EQ(pat.cols[0][0], 5);
   EXPECT_EQ(pat.cols[0][1], 6);
   EXPECT_EQ(pat.count[3], 0);
   EXPECT_EQ(pat.cols[6][0], 4);
   EXPECT_EQ(pat.count[7], 9);
-  // every entry of the Jacobian outside the pattern is zero; inside it (rows 0..6, where the
-  // pattern is exact) none is at this point
+  EXPECT_EQ(pat.count[8], 1);
+  // every entry of the Jacobian outside the pattern is zero; inside it (every row but 7, where
+  // the pattern is exact) none is at this point
   Vec<6> xv;
   xv << 0.3, -0.7, 1.1, 0.4, -0.2, 0.9;
   const Vec<3> uv(0.5, -1.3, 0.8);
   const Vec<2> pv(2.0, -3.0);
   NoAllocScope guard;
-  const Mat<8, 9> J = ad::jacobian<0, 1>(e, xv, uv, pv);
-  for (int i = 0; i < 8; ++i) {
+  const Mat<9, 9> J = ad::jacobian<0, 1>(e, xv, uv, pv);
+  for (int i = 0; i < 9; ++i) {
     for (int k = 0; k < 9; ++k) {
       if (!rows[std::size_t(i)][std::size_t(k)]) {
         EXPECT_EQ(J(i, k), 0.0) << i << "," << k;
-      } else if (i < 7) {
+      } else if (i != 7) {
         EXPECT_NE(J(i, k), 0.0) << i << "," << k;
       }
     }

@@ -354,8 +354,10 @@ template <int St, int L, int Id, int N>
 struct RowDeps<SegmentExpr<St, L, Symbol<Id, N>>> {
   template <class Env>
   static constexpr auto get() {
+    using Rows = std::array<DirSet<outer_directions<typename Env::Scalar>()>, std::size_t(L)>;
+    // (Rows spelled out: deduced from a single element, std::array{...} would copy it when L = 1)
     return []<std::size_t... I>(std::index_sequence<I...>) {
-      return std::array{argument_directions<Env, Id, St + int(I), 1>()...};
+      return Rows{argument_directions<Env, Id, St + int(I), 1>()...};
     }
     (std::make_index_sequence<std::size_t(L)>{});
   }
