@@ -3,8 +3,10 @@
 // exhaustive active-set enumeration; infeasible problems must never be reported as solved.
 #include <gtest/gtest.h>
 
+#include <Eigen/QR>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "alloc_guard.hpp"
 #include "arbor/qp/dense_qp_solver.hpp"
@@ -312,6 +314,53 @@ TEST(QpDense, NonFiniteDataAndBadBounds) {
   c.p.H(1, 1) = -1;
   EXPECT_EQ(c.run(), QpStatus::non_convex);
   EXPECT_EQ(c.s.solve(), QpStatus::not_setup);
+}
+
+// The convexity check of setup() and update() (qp/data_checks.hpp, is_psd: a Cholesky of the
+// block plus a relative slack by the register-blocked kernel) on sizes that are no multiple of a
+// block edge or a vector width, against the closed form H = V diag(d) V' (V orthogonal, from
+// Eigen's QR of a random matrix): a semidefinite H (some d = 0) and a definite one are accepted,
+// one eigenvalue of -1e-3 |d|_max is refused, and only the upper triangle is read (NaN below).
+template <int n>
+void check_convexity_check(std::mt19937& rng) {
+  std::normal_distribution<double> nd(0.0, 1.0);
+  const Eigen::MatrixXd g = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return nd(rng); });
+  const Eigen::MatrixXd v = Eigen::HouseholderQR<Eigen::MatrixXd>(g).householderQ();
+  auto build = [&](const Eigen::VectorXd& d) {
+    Eigen::Matrix<double, n, n> h = v * d.asDiagonal() * v.transpose();
+    for (int j = 0; j < n; ++j)
+      for (int i = j + 1; i < n; ++i)
+        h(i, j) = std::numeric_limits<double>::quiet_NaN();  // never read
+    return h;
+  };
+  Eigen::VectorXd d(n);
+  for (int i = 0; i < n; ++i)
+    d(i) = 1.0 + 3.0 * i;
+  const double slack = arbor::qp::QpSettings<double>{}.psd_tolerance;
+  bool definite, semidefinite, indefinite;
+  {
+    const Eigen::Matrix<double, n, n> h = build(d);  // (dynamic Eigen allocates)
+    arbor::test::NoAllocScope guard;
+    definite = arbor::qp::detail::is_psd(h, slack);
+  }
+  for (int i = 0; i < n; i += 2)
+    d(i) = 0.0;
+  semidefinite = arbor::qp::detail::is_psd(build(d), slack);
+  d(n - 1) = -1e-3 * (1.0 + 3.0 * (n - 1));
+  indefinite = arbor::qp::detail::is_psd(build(d), slack);
+  EXPECT_TRUE(definite) << "n = " << n;
+  EXPECT_TRUE(semidefinite) << "n = " << n;
+  EXPECT_FALSE(indefinite) << "n = " << n;
+}
+
+TEST(QpDense, ConvexityCheckOnOddSizesReadsTheUpperTriangle) {
+  std::mt19937 rng(3);
+  check_convexity_check<1>(rng);
+  check_convexity_check<3>(rng);
+  check_convexity_check<7>(rng);
+  check_convexity_check<13>(rng);
+  check_convexity_check<14>(rng);
+  check_convexity_check<24>(rng);
 }
 
 }  // namespace

@@ -27,9 +27,9 @@
 // Cost per iteration: one full factorization of the backend (~10 k multiply-adds per stage at the
 // Kinova size NX = 16, NU = 8; 17 us for 17 stages with AVX-512, bench/qp/RESULTS.md), two
 // solve_exact() and the backend's products for the residuals (ocp_products.hpp: H v, A v, A' v).
-// Memory: the backend's factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 14 NI + 7 NV +
+// Memory: the backend's factor (N NW (NW+1)/2 + NX (NX+1)/2 scalars, NW = NX + NU), 19 NI + 7 NV +
 // 4 NA + 3 N NX scalars for the iterate, the directions and the weights (NI = NV + N NG + NGN:
-// the inequalities' index space), NV + NA bytes (~110 KB at the Kinova size in double: a
+// the inequalities' index space), NV + NA bytes (~142 KB at the Kinova size in double: a
 // separate workspace, so only a program that uses the cold start pays it).
 // Not handled (status unsupported: use the active set's own cold start): equalities other than
 // x_0 (a bound with lb == ub on another variable, a path row with lg == ug).
@@ -41,7 +41,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <type_traits>
 
@@ -143,34 +142,28 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       ++info_.iterations;
       // predictor (affine scaling): complementarity targets 0
       direction(Scalar(0), false);
-      const Scalar ap = step_length(sl_, dsl_, su_, dsu_, Scalar(1));
-      const Scalar ad = step_length(lam_, dlam_, mu_, dmu_, Scalar(1));
-      Scalar tau_aff = 0;
-      for (int i = 0; i < NI; ++i) {
-        if (kind_[i] & kLower)
-          tau_aff += (sl_[i] + ap * dsl_[i]) * (lam_[i] + ad * dlam_[i]);
-        if (kind_[i] & kUpper)
-          tau_aff += (su_[i] + ap * dsu_[i]) * (mu_[i] + ad * dmu_[i]);
-      }
-      tau_aff /= Scalar(m_);
+      const Scalar ap =
+          step_length(shrink_ratio(dsl_, isl_.array(), dsu_, isu_.array()), Scalar(1));
+      const Scalar ad =
+          step_length(shrink_ratio(dlam_, ilam_.array(), dmu_, imu_.array()), Scalar(1));
+      // (an absent side: slack 1, multiplier 0 and zero steps, so its products vanish)
+      const Scalar tau_aff =
+          ((sl_ + ap * dsl_).dot(lam_ + ad * dlam_) + (su_ + ap * dsu_).dot(mu_ + ad * dmu_)) /
+          Scalar(m_);
       const Scalar ratio = tau_aff / tau;
       const Scalar sigma = ratio * ratio * ratio;
       // corrector: centring sigma tau and the predictor's second-order term
       direction(sigma * tau, true);
-      const Scalar bp = step_length(sl_, dsl_, su_, dsu_, s.boundary);
-      const Scalar bd = step_length(lam_, dlam_, mu_, dmu_, s.boundary);
+      const Scalar bp =
+          step_length(shrink_ratio(dsl_, isl_.array(), dsu_, isu_.array()), s.boundary);
+      const Scalar bd =
+          step_length(shrink_ratio(dlam_, ilam_.array(), dmu_, imu_.array()), s.boundary);
       w_ += bp * dw_;
       nu_ += bd * dnu_;
-      for (int i = 0; i < NI; ++i) {
-        if (kind_[i] & kLower) {
-          sl_[i] += bp * dsl_[i];
-          lam_[i] += bd * dlam_[i];
-        }
-        if (kind_[i] & kUpper) {
-          su_[i] += bp * dsu_[i];
-          mu_[i] += bd * dmu_[i];
-        }
-      }
+      sl_ += bp * dsl_;  // absent sides: zero steps
+      su_ += bp * dsu_;
+      lam_ += bd * dlam_;
+      mu_ += bd * dmu_;
     }
   }
 
@@ -189,9 +182,9 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     int active = 0;
     for (int i = 0; i < NI; ++i) {
       Scalar y = 0;
-      if ((kind_[i] & kLower) && lam_[i] > sl_[i])
+      if (has_lo_[i] != Scalar(0) && lam_[i] > sl_[i])
         y = -lam_[i];
-      else if ((kind_[i] & kUpper) && mu_[i] > su_[i])
+      else if (has_up_[i] != Scalar(0) && mu_[i] > su_[i])
         y = mu_[i];
       active += y != Scalar(0);
       if (i < NV) {
@@ -216,18 +209,11 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   IpmStatus status() const { return status_; }
 
  private:
-  static constexpr std::uint8_t kLower = 1, kUpper = 2;
   /// Index of stage k's first path row in the inequalities' space (k = N: the terminal rows).
   static constexpr int row(int k) { return NV + k * NG; }
-  /// The weight lam / s_l + mu / s_u of inequality i in the Newton matrix.
-  Scalar weight(int i) const {
-    Scalar d = 0;
-    if (kind_[i] & kLower)
-      d += lam_[i] / sl_[i];
-    if (kind_[i] & kUpper)
-      d += mu_[i] / su_[i];
-    return d;
-  }
+  /// The weight lam / s_l + mu / s_u of inequality i in the Newton matrix (isl_, isu_ of this
+  /// iteration; an absent side has a zero multiplier and a zero inverse).
+  Scalar weight(int i) const { return lam_[i] * isl_[i] + mu_[i] * isu_[i]; }
 
   IpmStatus initialize(const IpmSettings<Scalar>& s) {
     const Problem& p = *p_;
@@ -239,23 +225,24 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     auto bound = [&](int i, Scalar lo, Scalar hi) -> bool {
       lb_[i] = lo;
       ub_[i] = hi;
-      kind_[i] = 0;
       if (std::isnan(lo) || std::isnan(hi))
         return false;
       if (lo == hi)
         return false;  // an equality: only x_0's are handled (by fixing it)
       if (lo > -inf) {
-        kind_[i] |= kLower;
+        has_lo_[i] = Scalar(1);
         ++m_;
       }
       if (hi < inf) {
-        kind_[i] |= kUpper;
+        has_up_[i] = Scalar(1);
         ++m_;
       }
       return true;
     };
-    for (int i = 0; i < NI; ++i)
-      kind_[i] = 0;
+    // an absent side (no bound, or x_0's fixed entries) is carried with mask 0, bound 0, slack 1
+    // and multiplier 0: every elementwise update of the iterations then leaves it so, no branch
+    has_lo_.setZero();
+    has_up_.setZero();
     for (int k = 0; k < N; ++k) {
       const auto& st = p.stage[k];
       const int ox = Problem::state_offset(k), ou = Problem::input_offset(k);
@@ -312,27 +299,40 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     bw_.setZero();
     fixed_.setZero();
     // slacks: the distance to each bound at the start, at least init; multipliers init
-    row_values(w_, z_);
+    row_values(w_, cz_);
     for (int i = 0; i < NI; ++i) {
-      sl_[i] = su_[i] = lam_[i] = mu_[i] = Scalar(0);
-      if (kind_[i] & kLower) {
-        sl_[i] = std::max(z_[i] - lb_[i], s.init);
+      sl_[i] = su_[i] = Scalar(1);
+      lam_[i] = mu_[i] = Scalar(0);
+      if (has_lo_[i] != Scalar(0)) {
+        sl_[i] = std::max(cz_[i] - lb_[i], s.init);
         lam_[i] = s.init;
+      } else {
+        lb_[i] = Scalar(0);
       }
-      if (kind_[i] & kUpper) {
-        su_[i] = std::max(ub_[i] - z_[i], s.init);
+      if (has_up_[i] != Scalar(0)) {
+        su_[i] = std::max(ub_[i] - cz_[i], s.init);
         mu_[i] = s.init;
+      } else {
+        ub_[i] = Scalar(0);
       }
     }
+    dsl_.setZero();
+    dsu_.setZero();
+    dlam_.setZero();
+    dmu_.setZero();
     if (m_ == 0)
       m_ = 1;
     return IpmStatus::converged;
   }
 
   /// z = [v; rows]: the variables, and C x + D u on the path rows (the backend's A v; av_ keeps
-  /// all of A v, the dynamics rows x_{k+1} - A x_k - B u_k too).
-  void row_values(const VecV& v, VecI& z) {
-    be_.cons_mul(v, av_);
+  /// all of A v, the dynamics rows x_{k+1} - A x_k - B u_k too, unless path_only: then they are
+  /// not computed and av_'s dynamics rows are stale).
+  void row_values(const VecV& v, VecI& z, bool path_only = false) {
+    if (path_only)
+      be_.path_mul(v, av_);
+    else
+      be_.cons_mul(v, av_);
     z.template head<NV>() = v;
     for (int k = 0; k <= N; ++k) {
       const int nr = k < N ? NG : NGN;
@@ -346,7 +346,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// largest residuals in info_.
   Scalar residuals() {
     const Problem& p = *p_;
-    row_values(w_, z_);
+    row_values(w_, cz_);
     // the flat multipliers of the solvers' convention (H x + g + lam_x + A' lam_a = 0): the
     // costates on the dynamics rows, mu - lam on the path rows (and on the bounds, below)
     for (int k = 0; k <= N; ++k) {
@@ -362,23 +362,12 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     be_.hess_mul(w_, rw_);
     be_.cons_tmul(la_, fw_);  // (fw_: scratch until direction())
     rw_ += g_ + fw_;
-    Scalar pr = rdyn_.cwiseAbs().maxCoeff(), comp = 0;
-    for (int i = 0; i < NI; ++i) {
-      rsl_[i] = rsu_[i] = Scalar(0);
-      if (i < NV)
-        rw_[i] += mu_[i] - lam_[i];
-      if (kind_[i] & kLower) {
-        rsl_[i] = z_[i] - lb_[i] - sl_[i];
-        pr = std::max(pr, std::abs(rsl_[i]));
-        comp += sl_[i] * lam_[i];
-      }
-      if (kind_[i] & kUpper) {
-        rsu_[i] = ub_[i] - z_[i] - su_[i];
-        pr = std::max(pr, std::abs(rsu_[i]));
-        comp += su_[i] * mu_[i];
-      }
-    }
-    info_.primal_residual = pr;
+    rw_ += mu_.template head<NV>() - lam_.template head<NV>();
+    rsl_ = has_lo_.cwiseProduct(cz_ - lb_ - sl_);  // 0 on absent sides
+    rsu_ = has_up_.cwiseProduct(ub_ - cz_ - su_);
+    const Scalar comp = sl_.dot(lam_) + su_.dot(mu_);
+    info_.primal_residual = std::max(
+        {rdyn_.cwiseAbs().maxCoeff(), rsl_.cwiseAbs().maxCoeff(), rsu_.cwiseAbs().maxCoeff()});
     info_.dual_residual = rw_.template tail<NV - NX>().cwiseAbs().maxCoeff();
     return comp / Scalar(m_);
   }
@@ -388,8 +377,16 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// (diag_weights), the rows' as the weights of rows in the working set; x_0 fixed (an exact
   /// bound), the dynamics exact. False on a pivot failure.
   bool factorize(Scalar reg) {
-    for (int i = 0; i < NV; ++i)
-      bw_[i] = weight(i);
+    // the inverses of this iterate's slacks (0 on absent sides: the weights, the directions
+    // and the step lengths) and multipliers (1 there: the step lengths; (1 - mask) added first,
+    // as lam + 1 - 1 would round a small multiplier away)
+    const auto ones = VecI::Ones().array();
+    isl_ = has_lo_.cwiseQuotient(sl_);
+    isu_ = has_up_.cwiseQuotient(su_);
+    ilam_ = (lam_.array() + (ones - has_lo_.array())).inverse().matrix();
+    imu_ = (mu_.array() + (ones - has_up_.array())).inverse().matrix();
+    bw_ = lam_.template head<NV>().cwiseProduct(isl_.template head<NV>()) +
+          mu_.template head<NV>().cwiseProduct(isu_.template head<NV>());
     for (int k = 0; k <= N; ++k) {
       const int nr = k < N ? NG : NGN;
       for (int j = 0; j < nr; ++j)
@@ -417,23 +414,18 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// dnu_, dsl_, dsu_, dlam_, dmu_ (top of the file).
   void direction(Scalar target, bool corrector) {
     const Problem& p = *p_;
-    auto rcl = [&](int i) {
-      return target - sl_[i] * lam_[i] - (corrector ? dsl_[i] * dlam_[i] : Scalar(0));
-    };
-    auto rcu = [&](int i) {
-      return target - su_[i] * mu_[i] - (corrector ? dsu_[i] * dmu_[i] : Scalar(0));
-    };
-    fw_ = rw_;
-    for (int i = 0; i < NI; ++i) {
-      Scalar c = 0;
-      if (kind_[i] & kLower)
-        c += (rcl(i) - lam_[i] * rsl_[i]) / sl_[i];
-      if (kind_[i] & kUpper)
-        c -= (rcu(i) - mu_[i] * rsu_[i]) / su_[i];
-      cz_[i] = c;
-      if (i < NV)
-        fw_[i] -= c;
+    // the complementarity residuals rc (0 on absent sides), kept in dlam_ and dmu_ until the
+    // direction's own values replace them (elementwise, so in place)
+    if (corrector) {
+      dlam_ = target * has_lo_ - sl_.cwiseProduct(lam_) - dsl_.cwiseProduct(dlam_);
+      dmu_ = target * has_up_ - su_.cwiseProduct(mu_) - dsu_.cwiseProduct(dmu_);
+    } else {
+      dlam_ = target * has_lo_ - sl_.cwiseProduct(lam_);
+      dmu_ = target * has_up_ - su_.cwiseProduct(mu_);
     }
+    cz_ = (dlam_ - lam_.cwiseProduct(rsl_)).cwiseProduct(isl_) -
+          (dmu_ - mu_.cwiseProduct(rsu_)).cwiseProduct(isu_);
+    fw_ = rw_ - cz_.template head<NV>();
     for (int k = 0; k < N; ++k) {
       if constexpr (NG > 0) {
         const auto& st = p.stage[k];
@@ -448,47 +440,38 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       fw_.template segment<NX>(Problem::state_offset(N)).noalias() -= p.terminal.C.transpose() * c;
     }
     solve_lq();
-    row_values(dw_, cz_);  // cz_ <- the direction's constraint values
-    for (int i = 0; i < NI; ++i) {
-      if (kind_[i] & kLower) {
-        const Scalar r = rcl(i);  // before dsl_, dlam_ are overwritten
-        dsl_[i] = cz_[i] + rsl_[i];
-        dlam_[i] = (r - lam_[i] * dsl_[i]) / sl_[i];
-      } else {
-        dsl_[i] = dlam_[i] = Scalar(0);
-      }
-      if (kind_[i] & kUpper) {
-        const Scalar r = rcu(i);
-        dsu_[i] = -cz_[i] + rsu_[i];
-        dmu_[i] = (r - mu_[i] * dsu_[i]) / su_[i];
-      } else {
-        dsu_[i] = dmu_[i] = Scalar(0);
-      }
-    }
+    row_values(dw_, cz_, true);  // cz_ <- the direction's path-row values
+    dsl_ = has_lo_.cwiseProduct(cz_ + rsl_);
+    dsu_ = has_up_.cwiseProduct(rsu_ - cz_);
+    dlam_ = (dlam_ - lam_.cwiseProduct(dsl_)).cwiseProduct(isl_);
+    dmu_ = (dmu_ - mu_.cwiseProduct(dsu_)).cwiseProduct(isu_);
   }
 
-  /// Largest step in [0, 1] that keeps a + t da and b + t db at least (1 - frac) of their
-  /// values (frac = 1: to the boundary) on the inequalities that exist.
-  Scalar step_length(const VecI& a, const VecI& da, const VecI& b, const VecI& db,
-                     Scalar frac) const {
-    Scalar t = 1;
-    for (int i = 0; i < NI; ++i) {
-      if ((kind_[i] & kLower) && da[i] < Scalar(0))
-        t = std::min(t, -frac * a[i] / da[i]);
-      if ((kind_[i] & kUpper) && db[i] < Scalar(0))
-        t = std::min(t, -frac * b[i] / db[i]);
-    }
-    return t;
+  /// The largest relative shrink max(-da, 0) / a and max(-db, 0) / b over the inequalities,
+  /// from the steps and the inverses ia = 1 / a, ib = 1 / b (a, b > 0 on the sides that exist;
+  /// an absent side's step is 0): vector instructions, no branch.
+  template <class InvA, class InvB>
+  static Scalar shrink_ratio(const VecI& da, const InvA& ia, const VecI& db, const InvB& ib) {
+    return std::max(((-da.array()).max(Scalar(0)) * ia).maxCoeff(),
+                    ((-db.array()).max(Scalar(0)) * ib).maxCoeff());
   }
+  /// Largest step in [0, 1] that keeps every side at least (1 - frac) of its value (frac = 1:
+  /// to the boundary), from its largest relative shrink q: min(1, frac / q), no infinity.
+  static Scalar step_length(Scalar q, Scalar frac) { return q <= frac ? Scalar(1) : frac / q; }
 
   const Problem* p_ = nullptr;
   IpmInfo<Scalar> info_{};
   IpmStatus status_ = IpmStatus::unsupported;
   Scalar scale_ = 1;
   int m_ = 1;  ///< number of inequalities (finite sides)
-  std::array<std::uint8_t, NI> kind_{};
-  VecI lb_, ub_, z_, sl_, su_, lam_, mu_, dsl_, dsu_, dlam_, dmu_, rsl_, rsu_;
-  VecI cz_;  ///< scratch: the weights, the right-hand side's coefficients, the direction's values
+  /// bounds (0 on absent sides), slacks (1 on absent sides), multipliers (0 there),
+  /// their steps, the slack residuals, the sides' masks (1: the side exists), per iteration
+  /// 1 / slack (0 on absent sides) and 1 / multiplier (1 there)
+  VecI lb_, ub_, sl_, su_, lam_, mu_, dsl_, dsu_, dlam_, dmu_, rsl_, rsu_;
+  VecI has_lo_, has_up_, isl_, isu_, ilam_, imu_;
+  /// scratch: the iterate's row values (residuals()), the right-hand side's coefficients, the
+  /// direction's row values
+  VecI cz_;
   VecV w_, dw_, rw_, fw_, g_;  ///< iterate, step, stationarity residual, scratch, gradient
   Costates nu_, dnu_, rdyn_;
   /// the Newton matrix's factorization: the active-set solver's Riccati backend
