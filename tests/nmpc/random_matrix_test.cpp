@@ -126,21 +126,22 @@ Eigen::Matrix<double, 2 * R::nv, 1> plant_step(const Eigen::Matrix<double, 2 * R
   return y;
 }
 
-/// RTI closed loop with a jump of the measured state at sample 20 (shoulder +0.5 rad: out of the
-/// tunnel, which is soft here so the QP stays feasible): every sample's QP solved, controls and
-/// states finite, back in the tunnel at the end. bound > 0: the feedback's QP is bounded to that
-/// many iterations (NmpcSettings::feedback_qp_iterations): step_taken or step_limited, never
-/// more QP iterations, the controls within their bounds, back in the tunnel 80 samples after the
-/// jump (40 without the bound).
-template <class R, int N, class T>
-[[gnu::noinline]] void rti_closed_loop(int bound = 0) {
+/// RTI closed loop with a jump of the measured state at sample 20 (shoulder + jump rad; 0.5: out
+/// of the tunnel, which is soft by default so the QP stays feasible; Soft = false: the hard
+/// tunnel of hard_tunnel_jump_status()'s controller, with a jump that stays feasible): every
+/// sample's QP solved, controls and states finite, back in the tunnel at the end. bound > 0: the
+/// feedback's QP is bounded to that many iterations (NmpcSettings::feedback_qp_iterations):
+/// step_taken or step_limited, never more QP iterations, the controls within their bounds, back
+/// in the tunnel 80 samples after the jump (40 without the bound; or after loop_samples - 20).
+template <class R, int N, class T, bool Soft = true>
+[[gnu::noinline]] void rti_closed_loop(int bound = 0, double jump_rad = 0.5, int loop_samples = 0) {
   using Task = TaskOf<R, N>;
   constexpr int nx = Task::nx, nu = Task::nu, n = R::nv;
   SCOPED_TRACE(::testing::Message() << "nv=" << n << " N=" << N
                                     << " scalar=" << (std::is_same_v<T, float> ? "float" : "double")
                                     << " feedback bound " << bound);
   static typename Task::template Workspace<ad::Analytical, T, false> ws;
-  static const auto p = Task::template problem<ad::Analytical, true>(ws);
+  static const auto p = Task::template problem<ad::Analytical, Soft>(ws);
   using P = std::remove_const_t<decltype(p)>;
   static nmpc::Nmpc<P, T> c(p);
   using Vu = Eigen::Matrix<T, nu, 1>;
@@ -155,13 +156,13 @@ template <class R, int N, class T>
   }
   // (a bounded feedback spreads the correction over more samples: on the Cortex-M4F the float
   // 7-DoF loop with K = 3 was 1.6 mm outside the tunnel 40 samples after the jump)
-  const int samples = bound > 0 ? 100 : 60;
+  const int samples = loop_samples > 0 ? loop_samples : bound > 0 ? 100 : 60;
   constexpr int jump = 20;
   int failed = 0, limited = 0;
   double worst_qd = 0;
   for (int s = 0; s < samples; ++s) {
     if (s == jump)
-      x[0] += 0.5;  // the measured state jumps (a push): the plan no longer starts there
+      x[0] += jump_rad;  // the measured state jumps (a push): the plan no longer starts there
     NmpcStatus sp, sf;
     {
       arbor::test::NoAllocScope guard;
@@ -277,6 +278,20 @@ TEST(NmpcRandomMatrix, GaussNewtonAndExactHessianAgree) {
 TEST(NmpcRandomMatrix, HardTunnelAfterAJumpIsSolvedOrProvedInfeasible) {
   const auto st = hard_tunnel_jump_status<R7, 20, double>();
   EXPECT_TRUE(st == arbor::qp::QpStatus::solved || st == arbor::qp::QpStatus::infeasible) << st;
+}
+// The bounded feedback (issue 38) in this unit's builds (-O1 SSE2 and -O3 -march=native AVX-512)
+// on the same controller type (the hard tunnel), so no new instantiation: one QP iteration per
+// sample (step_limited on nearly every sample), no jump.
+TEST(NmpcRandomMatrix, BoundedFeedbackHardTunnelClosedLoop) {
+  rti_closed_loop<R7, 20, double, false>(1, 0.0);
+}
+// Known failure, kept as its reproduction (issue 38's closing note, 2026-12-06): with the hard
+// tunnel, a jump of only 0.02-0.05 rad at sample 20 starts a period-2 oscillation of the joint
+// velocities (|qd| alternating ~1.5 / ~3.5 rad/s) in the full (unbounded) RTI loop; it grows, the
+// arm leaves the tunnel by up to 0.46 m 60 samples later and the controller falls back to the
+// relaxed QP. The soft tunnel recovers from a 0.5 rad jump (RtiClosedLoopRecoversFromAStateJump).
+TEST(NmpcRandomMatrix, DISABLED_HardTunnelRtiRecoversFromASmallJump) {
+  rti_closed_loop<R7, 20, double, false>(0, 0.02, 200);
 }
 #elif ARBOR_MATRIX_PART == 2
 // (not on the targets, ARBOR_MATRIX_NO_EXACT: the exact-Hessian controller's nested duals are
