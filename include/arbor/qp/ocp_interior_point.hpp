@@ -131,6 +131,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
         return status_ = IpmStatus::converged;
       if (info_.iterations >= s.max_iter)
         return status_ = IpmStatus::iteration_limit;
+      inverses();
       if (!factorize(s.reg)) {
         // near the solution the weights lam / s span the scalar's range (float: tol 1e-6 fails):
         // a point that made progress is still a crossover point
@@ -142,10 +143,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       ++info_.iterations;
       // predictor (affine scaling): complementarity targets 0
       direction(Scalar(0), false);
-      const Scalar ap =
-          step_length(shrink_ratio(dsl_, isl_.array(), dsu_, isu_.array()), Scalar(1));
-      const Scalar ad =
-          step_length(shrink_ratio(dlam_, ilam_.array(), dmu_, imu_.array()), Scalar(1));
+      const Scalar ap = primal_step(Scalar(1)), ad = dual_step(Scalar(1));
       // (an absent side: slack 1, multiplier 0 and zero steps, so its products vanish)
       const Scalar tau_aff =
           ((sl_ + ap * dsl_).dot(lam_ + ad * dlam_) + (su_ + ap * dsu_).dot(mu_ + ad * dmu_)) /
@@ -154,10 +152,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       const Scalar sigma = ratio * ratio * ratio;
       // corrector: centring sigma tau and the predictor's second-order term
       direction(sigma * tau, true);
-      const Scalar bp =
-          step_length(shrink_ratio(dsl_, isl_.array(), dsu_, isu_.array()), s.boundary);
-      const Scalar bd =
-          step_length(shrink_ratio(dlam_, ilam_.array(), dmu_, imu_.array()), s.boundary);
+      const Scalar bp = primal_step(s.boundary), bd = dual_step(s.boundary);
       w_ += bp * dw_;
       nu_ += bd * dnu_;
       sl_ += bp * dsl_;  // absent sides: zero steps
@@ -211,9 +206,6 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
  private:
   /// Index of stage k's first path row in the inequalities' space (k = N: the terminal rows).
   static constexpr int row(int k) { return NV + k * NG; }
-  /// The weight lam / s_l + mu / s_u of inequality i in the Newton matrix (isl_, isu_ of this
-  /// iteration; an absent side has a zero multiplier and a zero inverse).
-  Scalar weight(int i) const { return lam_[i] * isl_[i] + mu_[i] * isu_[i]; }
 
   IpmStatus initialize(const IpmSettings<Scalar>& s) {
     const Problem& p = *p_;
@@ -361,8 +353,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     }
     be_.hess_mul(w_, rw_);
     be_.cons_tmul(la_, fw_);  // (fw_: scratch until direction())
-    rw_ += g_ + fw_;
-    rw_ += mu_.template head<NV>() - lam_.template head<NV>();
+    rw_ += g_ + fw_ + mu_.template head<NV>() - lam_.template head<NV>();
     rsl_ = has_lo_.cwiseProduct(cz_ - lb_ - sl_);  // 0 on absent sides
     rsu_ = has_up_.cwiseProduct(ub_ - cz_ - su_);
     const Scalar comp = sl_.dot(lam_) + su_.dot(mu_);
@@ -372,25 +363,30 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     return comp / Scalar(m_);
   }
 
-  /// Factorizes the Newton matrix for the weights lam/s_l + mu/s_u (top of the file) with the
-  /// active-set solver's Riccati backend: the bounds' weights on the stage diagonals
-  /// (diag_weights), the rows' as the weights of rows in the working set; x_0 fixed (an exact
-  /// bound), the dynamics exact. False on a pivot failure.
-  bool factorize(Scalar reg) {
-    // the inverses of this iterate's slacks (0 on absent sides: the weights, the directions
-    // and the step lengths) and multipliers (1 there: the step lengths; (1 - mask) added first,
-    // as lam + 1 - 1 would round a small multiplier away)
+  /// The inverses of this iterate's slacks (0 on absent sides: the weights, the directions and
+  /// the step lengths) and multipliers (1 there: the step lengths; (1 - mask) added first, as
+  /// lam + 1 - 1 would round a small multiplier away). Once per iteration.
+  void inverses() {
     const auto ones = VecI::Ones().array();
     isl_ = has_lo_.cwiseQuotient(sl_);
     isu_ = has_up_.cwiseQuotient(su_);
     ilam_ = (lam_.array() + (ones - has_lo_.array())).inverse().matrix();
     imu_ = (mu_.array() + (ones - has_up_.array())).inverse().matrix();
-    bw_ = lam_.template head<NV>().cwiseProduct(isl_.template head<NV>()) +
-          mu_.template head<NV>().cwiseProduct(isu_.template head<NV>());
+  }
+
+  /// Factorizes the Newton matrix for the weights lam/s_l + mu/s_u (top of the file) with the
+  /// active-set solver's Riccati backend: the bounds' weights on the stage diagonals
+  /// (diag_weights), the rows' as the weights of rows in the working set; x_0 fixed (an exact
+  /// bound), the dynamics exact. False on a pivot failure.
+  bool factorize(Scalar reg) {
+    // the weights of every inequality (0 on absent sides: zero multiplier and inverse), in the
+    // scratch cz_: the bounds' into bw_, the rows' into wa_
+    cz_ = lam_.cwiseProduct(isl_) + mu_.cwiseProduct(isu_);
+    bw_ = cz_.template head<NV>();
     for (int k = 0; k <= N; ++k) {
       const int nr = k < N ? NG : NGN;
       for (int j = 0; j < nr; ++j)
-        wa_[Problem::constraint_offset(k) + j] = weight(row(k) + j);
+        wa_[Problem::constraint_offset(k) + j] = cz_[row(k) + j];
     }
     be_.diag_weights = bw_.data();
     be_.mark_all();
@@ -447,17 +443,19 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     dmu_ = (dmu_ - mu_.cwiseProduct(dsu_)).cwiseProduct(isu_);
   }
 
-  /// The largest relative shrink max(-da, 0) / a and max(-db, 0) / b over the inequalities,
-  /// from the steps and the inverses ia = 1 / a, ib = 1 / b (a, b > 0 on the sides that exist;
-  /// an absent side's step is 0): vector instructions, no branch.
-  template <class InvA, class InvB>
-  static Scalar shrink_ratio(const VecI& da, const InvA& ia, const VecI& db, const InvB& ib) {
-    return std::max(((-da.array()).max(Scalar(0)) * ia).maxCoeff(),
-                    ((-db.array()).max(Scalar(0)) * ib).maxCoeff());
+  /// Largest step in [0, 1] that keeps a + t da and b + t db at least (1 - frac) of their
+  /// values (frac = 1: to the boundary), from the steps and the inverses ia = 1 / a, ib = 1 / b
+  /// (a, b > 0 on the sides that exist; an absent side's step is 0): min(1, frac / q) with q
+  /// the largest max(-da, 0) / a. Vector instructions, no branch, no division in the loop.
+  static Scalar step_length(const VecI& da, const VecI& ia, const VecI& db, const VecI& ib,
+                            Scalar frac) {
+    const Scalar q = std::max(((-da.array()).max(Scalar(0)) * ia.array()).maxCoeff(),
+                              ((-db.array()).max(Scalar(0)) * ib.array()).maxCoeff());
+    return q <= frac ? Scalar(1) : frac / q;
   }
-  /// Largest step in [0, 1] that keeps every side at least (1 - frac) of its value (frac = 1:
-  /// to the boundary), from its largest relative shrink q: min(1, frac / q), no infinity.
-  static Scalar step_length(Scalar q, Scalar frac) { return q <= frac ? Scalar(1) : frac / q; }
+  /// step_length() of the slacks and of the multipliers.
+  Scalar primal_step(Scalar frac) const { return step_length(dsl_, isl_, dsu_, isu_, frac); }
+  Scalar dual_step(Scalar frac) const { return step_length(dlam_, ilam_, dmu_, imu_, frac); }
 
   const Problem* p_ = nullptr;
   IpmInfo<Scalar> info_{};
@@ -469,8 +467,8 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// 1 / slack (0 on absent sides) and 1 / multiplier (1 there)
   VecI lb_, ub_, sl_, su_, lam_, mu_, dsl_, dsu_, dlam_, dmu_, rsl_, rsu_;
   VecI has_lo_, has_up_, isl_, isu_, ilam_, imu_;
-  /// scratch: the iterate's row values (residuals()), the right-hand side's coefficients, the
-  /// direction's row values
+  /// scratch: the iterate's row values (residuals()), the weights (factorize()), the right-hand
+  /// side's coefficients and the direction's row values (direction())
   VecI cz_;
   VecV w_, dw_, rw_, fw_, g_;  ///< iterate, step, stationarity residual, scratch, gradient
   Costates nu_, dnu_, rdyn_;
