@@ -38,6 +38,7 @@ struct LetEnv {
   using Scalar = typename Parent::Scalar;              ///< scalar type of the evaluation
   static constexpr bool seeded = Parent::seeded;       ///< as the parent's
   static constexpr int levels = env_levels<Parent>();  ///< as the parent's
+  static constexpr int arguments = Parent::arguments;  ///< as the parent's
   const Parent& parent;                                ///< enclosing environment
   V value;                                             ///< the bound value
   /// First derivative direction of argument Id (< 0: not differentiated).

@@ -26,7 +26,8 @@ struct RootEnv {
   using Scalar = S;                           ///< scalar type of the evaluation
   static constexpr bool seeded = Levels > 0;  ///< the outer dual level is this evaluation's
   static constexpr int levels = Levels;       ///< dual levels seeded by this evaluation
-  std::tuple<V...> args;                      ///< argument values, Values<S, N_i>
+  static constexpr int arguments = int(sizeof...(V));  ///< number of arguments
+  std::tuple<V...> args;                               ///< argument values, Values<S, N_i>
   /// First derivative direction of argument Id (< 0: not differentiated).
   template <int Id>
   static constexpr int offset() {
