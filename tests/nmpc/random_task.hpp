@@ -74,8 +74,9 @@ struct RandomTask {
 
   /// The problem; its RBD calls run on ws (caller-owned, outlives the problem and controller).
   /// Soft: the tunnel as an exact penalty (slack cost 1e3 s + 1e3 s^2), so that a measured state
-  /// outside it still has a feasible QP.
-  template <class Tag, bool Soft = false, class W>
+  /// outside it still has a feasible QP. Sens: the RK4 node's sensitivities (ocp/rk4.hpp).
+  template <class Tag, bool Soft = false,
+            arbor::ocp::Sensitivity Sens = arbor::ocp::Sensitivity::exact, class W>
   static auto problem(W& ws) {
     namespace ad = arbor::ad;
     namespace ocp = arbor::ocp;
@@ -94,7 +95,7 @@ struct RandomTask {
         return tunnel;
     }();
     auto p = ocp::make_problem<D>(
-        ocp::rk4<1>(ode, h),
+        ocp::rk4<1, Sens>(ode, h),
         ocp::path_costs(ocp::least_squares(pe - ad::constant(p1), 100.0),
                         ocp::least_squares(v, 0.1), ocp::least_squares(D::u, 1e-3)),
         ocp::terminal_costs(ocp::least_squares(pe - ad::constant(p1), 1000.0),
