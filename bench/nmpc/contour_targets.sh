@@ -10,12 +10,15 @@
 # Build folders: $BUILD_DIR (host, default build-contour-bench) and <it>-cortex-m7/-cortex-m4f.
 # About 20 minutes of compiler time on 2 cores (twelve controller translation units, ~2 GB each).
 # FEEDBACK_ITER=K: the closed loops' feedback bounded to K QP iterations (issue 38;
-# ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound).
+# ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound). FROZEN=1: OCP-FD's
+# RK4 with frozen sensitivities (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/bench/nmpc/RESULTS-targets.md}"
 host="${BUILD_DIR:-$root/build-contour-bench}"
 tmp="$(mktemp -d)"
+frozen=OFF
+[[ ${FROZEN:-0} == 1 ]] && frozen=ON
 trap 'rm -rf "$tmp"' EXIT
 
 tests="contour_target_fd_double_test contour_target_id_double_test contour_target_fd_float_test
@@ -24,7 +27,8 @@ echo "== host"
 # -O3 like the targets (hosted tests default to -O1 for compile time: ARBOR_TEST_OPTIMIZATION).
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_TESTS=ON \
   -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_TEST_OPTIMIZATION= \
-  -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" >/dev/null
+  -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" \
+  -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$host" -j2 --target $tests
 for t in $tests; do
@@ -40,7 +44,8 @@ for t in cortex-m7 cortex-m4f; do
   cmake -S "$root" -B "$b" --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$host" \
     -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON \
-    -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" >/dev/null
+    -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" \
+    -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" >/dev/null
   loop_forms="fd id"  # closed loops run on this target
   loops=""
   for form in $loop_forms; do loops="$loops contour_target_${form}_${scalar}_test"; done

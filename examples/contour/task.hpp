@@ -203,6 +203,17 @@ constexpr std::array<double, 23> terminal_weights() {
 constexpr int np = 1 + nq;
 using D = ocp::Dims<nx, nu, np, horizon>;
 
+/// How OCP-FD's RK4 step is differentiated (arbor/ocp/rk4.hpp): exact, the default (FD's
+/// Jacobian at the four stage states: 64 aba_derivatives per preparation), or, built with
+/// -DCONTOUR_FROZEN_SENSITIVITY=1, frozen (FD's Jacobian at each interval's start only, aba's
+/// value at the other three stages; an O(h^2) inexact Jacobian of the dynamics constraint).
+/// bench/nmpc/RESULTS.md compares the two.
+#ifndef CONTOUR_FROZEN_SENSITIVITY
+#define CONTOUR_FROZEN_SENSITIVITY 0
+#endif
+inline constexpr ocp::Sensitivity rk4_sensitivity =
+    CONTOUR_FROZEN_SENSITIVITY ? ocp::Sensitivity::frozen : ocp::Sensitivity::exact;
+
 /// The workspace of every RBD call of both formulations at controller scalar T with provider Tag
 /// (SCQP): values and Jacobians at T, and the pose's position Jacobian for the tunnel (a
 /// PoseCache, since the problem calls ad::FramePose).
@@ -247,7 +258,7 @@ auto make_problem(W& ws, const Reference& ref, double soft_weight = 100.0, doubl
     if constexpr (F == Formulation::fd) {
       const auto d = ad::segment<1, nq>(D::p);  // the disturbance estimate
       const auto ode = ad::cat(qd, ad::call<Tag>(ad::bind<Fd>(ws), q, qd, a + d), sd, sdd);
-      return ocp::rk4<1>(ode, h);
+      return ocp::rk4<1, rk4_sensitivity>(ode, h);
     } else {  // exact discretisation of the double integrator
       constexpr double h2 = h * h / 2;
       return ad::cat(q + h * qd + h2 * a, qd + h * a, s + h * sd + h2 * sdd, sd + h * sdd);
