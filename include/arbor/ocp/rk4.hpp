@@ -169,39 +169,15 @@ struct Rk4Expr {
   /// x after M steps, f's Jacobian at every stage.
   template <class Env>
   ad::Values<typename Env::Scalar, rows> eval_exact(const Env& env) const {
-    using S = typename Env::Scalar;
-    using B = ad::detail::base_t<S>;
-    using V = ad::Values<S, rows>;
-    constexpr int n = rows;
-    const B dt = B(h / M), half = B(h / (2 * M)), sixth = B(h / (6 * M));
-    V x = env.template arg<0>();
-    static_assert(V::size == n, "rk4: the state argument (Symbol<0, n>) must have f's size");
-    V xs, acc;
-    for (int m = 0; m < M; ++m) {
-      // k1 of the first step is f at the argument itself: the parent environment (whose state
-      // may carry unit seeds, which call nodes scatter instead of multiplying)
-      const V k1 = m == 0 ? V(f.eval(env)) : V(f.eval(detail::StateEnv<Env, V>{env, x}));
-      // the stage states and the weighted sum k1 + 2 k2 + 2 k3 are updated in place (no
-      // temporary duals: on a target without SIMD their zeroing and copying cost more than the
-      // arithmetic); the operations and their order are those of x + (k1 + 2 k2 + 2 k3 + k4) h/6
-      using ad::detail::add_scaled_to;
-      for (int i = 0; i < n; ++i)
-        add_scaled_to(xs[i], x[i], k1[i], half);
-      const V k2 = f.eval(detail::StateEnv<Env, V>{env, xs});
-      for (int i = 0; i < n; ++i) {
-        add_scaled_to(xs[i], x[i], k2[i], half);
-        add_scaled_to(acc[i], k1[i], k2[i], B(2));
-      }
-      const V k3 = f.eval(detail::StateEnv<Env, V>{env, xs});
-      for (int i = 0; i < n; ++i) {
-        add_scaled_to(xs[i], x[i], k3[i], dt);
-        add_scaled_to(acc[i], acc[i], k3[i], B(2));
-      }
-      const V k4 = f.eval(detail::StateEnv<Env, V>{env, xs});
-      for (int i = 0; i < n; ++i)
-        ad::detail::add_sum_scaled_to(x[i], x[i], acc[i], k4[i], sixth);
-    }
-    return x;
+    using V = ad::Values<typename Env::Scalar, rows>;
+    static_assert(std::remove_cvref_t<decltype(env.template arg<0>())>::size == rows,
+                  "rk4: the state argument (Symbol<0, n>) must have f's size");
+    // k1 of the first step is f at the argument itself: the parent environment (whose state may
+    // carry unit seeds, which call nodes scatter instead of multiplying); the other stages with
+    // the stage state substituted
+    return steps(env.template arg<0>(), V(f.eval(env)), [&](const V& xs) {
+      return V(f.eval(detail::StateEnv<Env, V>{env, xs}));
+    });
   }
 
   /// x after M steps, f's Jacobian at the interval's start only (Sensitivity::frozen).
@@ -215,17 +191,17 @@ struct Rk4Expr {
     constexpr int K = S::directions;
     constexpr int o0 = Env::template offset<0>();
     static_assert(o0 + n <= K, "rk4: the state's directions lie outside the evaluation's");
-    const B dt = B(h / M), half = B(h / (2 * M)), sixth = B(h / (6 * M));
-    V x = env.template arg<0>();
-    static_assert(V::size == n, "rk4: the state argument (Symbol<0, n>) must have f's size");
+    static_assert(std::remove_cvref_t<decltype(env.template arg<0>())>::size == n,
+                  "rk4: the state argument (Symbol<0, n>) must have f's size");
     // f and its Jacobian at the start: k1 = f(x) (exact); A0 = d f / d x is k1's state columns
     // (the state's seeds are unit vectors from o0), read in place
     const V k1 = f.eval(env);
     const auto rest = detail::argument_values<Env, B>(env);
     using Rest = std::remove_const_t<decltype(rest)>;
-    // a stage: the value of f at the stage state; the derivative k1.d + A0 (d x_stage - E), E the
-    // state's seeds, over A0's nonzero entries (k1.d alone is f's derivative at the start)
-    auto stage = [&](const V& xs) {
+    // any other stage: the value of f at the stage state; the derivative k1.d + A0 (d x_stage -
+    // E), E the state's seeds, over A0's nonzero entries (k1.d alone is f's derivative at the
+    // start)
+    return steps(env.template arg<0>(), k1, [&](const V& xs) {
       Vb xv;
       for (int i = 0; i < n; ++i)
         xv[i] = xs[i].v;
@@ -243,18 +219,32 @@ struct Rk4Expr {
         }
       }
       return k;
-    };
+    });
+  }
+
+ private:
+  /// M RK4 steps from x: k1 is the first step's first stage, stage(xs) f at any other stage
+  /// state (the exact or the frozen scheme).
+  template <class S, class Stage>
+  ad::Values<S, rows> steps(ad::Values<S, rows> x, const ad::Values<S, rows>& k1,
+                            const Stage& stage) const {
+    using B = ad::detail::base_t<S>;
+    using V = ad::Values<S, rows>;
+    constexpr int n = rows;
+    const B dt = B(h / M), half = B(h / (2 * M)), sixth = B(h / (6 * M));
     V xs, acc;
-    for (int m = 0; m < M; ++m) {
-      // the same stage arithmetic as the exact scheme
-      const V k1m = m == 0 ? k1 : stage(x);
+    // one step from the stage value ka at x: the stage states and the weighted sum k1 + 2 k2 +
+    // 2 k3 are updated in place (no temporary duals: on a target without SIMD their zeroing and
+    // copying cost more than the arithmetic); the operations and their order are those of
+    // x + (k1 + 2 k2 + 2 k3 + k4) h/6
+    auto step = [&](const V& ka) {
       using ad::detail::add_scaled_to;
       for (int i = 0; i < n; ++i)
-        add_scaled_to(xs[i], x[i], k1m[i], half);
+        add_scaled_to(xs[i], x[i], ka[i], half);
       const V k2 = stage(xs);
       for (int i = 0; i < n; ++i) {
         add_scaled_to(xs[i], x[i], k2[i], half);
-        add_scaled_to(acc[i], k1m[i], k2[i], B(2));
+        add_scaled_to(acc[i], ka[i], k2[i], B(2));
       }
       const V k3 = stage(xs);
       for (int i = 0; i < n; ++i) {
@@ -264,7 +254,10 @@ struct Rk4Expr {
       const V k4 = stage(xs);
       for (int i = 0; i < n; ++i)
         ad::detail::add_sum_scaled_to(x[i], x[i], acc[i], k4[i], sixth);
-    }
+    };
+    step(k1);
+    for (int m = 1; m < M; ++m)
+      step(stage(x));
     return x;
   }
 };
