@@ -223,14 +223,16 @@ struct Rk4Expr {
   }
 
  private:
-  /// M RK4 steps from x: k1 is the first step's first stage, stage(xs) f at any other stage
-  /// state (the exact or the frozen scheme).
+  /// M RK4 steps from x0: k1 is the first step's first stage, stage(xs) f at any other stage
+  /// state (the exact or the frozen scheme). (x is a local, not a by-value parameter, so that
+  /// the result is built in place: a parameter cannot be.)
   template <class S, class Stage>
-  ad::Values<S, rows> steps(ad::Values<S, rows> x, const ad::Values<S, rows>& k1,
+  ad::Values<S, rows> steps(const ad::Values<S, rows>& x0, const ad::Values<S, rows>& k1,
                             const Stage& stage) const {
     using B = ad::detail::base_t<S>;
     using V = ad::Values<S, rows>;
     constexpr int n = rows;
+    V x = x0;
     const B dt = B(h / M), half = B(h / (2 * M)), sixth = B(h / (6 * M));
     V xs, acc;
     // one step from the stage value ka at x: the stage states and the weighted sum k1 + 2 k2 +
