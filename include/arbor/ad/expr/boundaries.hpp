@@ -87,8 +87,10 @@ struct FnExpr {
       constexpr int K = detail::padded_directions<detail::base_t<S>, n, detail::count<n>(mask)>();
       if constexpr (K < n) {
         using C = detail::Compressed<S, K, L>;
-        constexpr auto idx = detail::kept_directions<n, K>(mask);
-        constexpr auto pos = detail::compressed_positions<n>(mask);
+        // static: Clang takes a local constexpr array named as a template argument in a lambda
+        // for an odr-use, which the lambda would have to capture
+        static constexpr auto idx = detail::kept_directions<n, K>(mask);
+        static constexpr auto pos = detail::compressed_positions<n>(mask);
         const auto compress = [](const auto& v) {
           constexpr int m = std::remove_cvref_t<decltype(v)>::size;
           VecN<C, m> c;

@@ -182,12 +182,17 @@ void input_elements(const A& arg, const Env& env, Xs& xs, const S** px) {
       const auto& a = env.template arg<CallPart<Q>::id>();
       for (int j = 0; j < Q::rows; ++j)
         px[col + j] = &a[CallPart<Q>::start + j];
-    } else {
+    } else if constexpr (requires { xs[0]; }) {
+      // (a requires-expression, not `else`: Clang checks the non-dependent xs[...] of a discarded
+      // branch when the enclosing template is instantiated, and xs has no elements when every
+      // part is a symbol)
       const auto& v = part.eval(env);
       for (int j = 0; j < Q::rows; ++j) {
         xs[col + j] = v[j];
         px[col + j] = &xs[col + j];
       }
+    } else {
+      static_assert(CallPart<Q>::id >= 0, "a part that is not a symbol needs its rows in xs");
     }
     col += Q::rows;
   };

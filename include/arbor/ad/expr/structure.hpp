@@ -317,21 +317,24 @@ S scatter(const C& c) {
     constexpr std::size_t N = Pos.size();
     static_assert(std::size_t(S::directions) == N, "compressed levels need equal directions");
     S r;
-    if constexpr (K == 0)
+    if constexpr (K == 0) {  // nothing kept: c is the value alone (no c.d to name, for Clang)
       r.v = scatter<L - 1, K, Pos, SV>(c);
-    else
+      for (std::size_t k = 0; k < N; ++k)
+        r.d[k] = SV{};
+    } else {
       r.v = scatter<L - 1, K, Pos, SV>(c.v);
-    [&]<std::size_t... D>(std::index_sequence<D...>) {
-      auto one = [&](auto k) {
-        constexpr int a = Pos[decltype(k)::value];
-        if constexpr (K > 0 && a >= 0)
-          r.d[decltype(k)::value] = scatter<L - 1, K, Pos, SV>(c.d[a]);
-        else
-          r.d[decltype(k)::value] = SV{};
-      };
-      (one(std::integral_constant<std::size_t, D>{}), ...);
+      [&]<std::size_t... D>(std::index_sequence<D...>) {
+        auto one = [&](auto k) {
+          constexpr int a = Pos[decltype(k)::value];
+          if constexpr (a >= 0)
+            r.d[decltype(k)::value] = scatter<L - 1, K, Pos, SV>(c.d[a]);
+          else
+            r.d[decltype(k)::value] = SV{};
+        };
+        (one(std::integral_constant<std::size_t, D>{}), ...);
+      }
+      (std::make_index_sequence<N>{});
     }
-    (std::make_index_sequence<N>{});
     return r;
   }
 }
