@@ -14,6 +14,7 @@
 #include <random>
 
 #include "../derivatives/derivative_checks.hpp"
+#include "random_draw.hpp"
 
 namespace arbor::test::frame_checks {
 
@@ -40,7 +41,8 @@ VecN<double, F::nin> random_input(std::mt19937& gen) {
   for (int i = 0; i < F::nin; ++i)
     x[i] = u(gen);
   if constexpr (is_orientation<F>) {
-    const Eigen::Matrix3d Rr = rotation(Eigen::Vector3d(u(gen), u(gen), u(gen)), 2.5 * u(gen));
+    const double angle = 2.5 * u(gen);  // first: see random_draw.hpp
+    const Eigen::Matrix3d Rr = rotation(arbor::test::draw3([&] { return u(gen); }), angle);
     for (int k = 0; k < 9; ++k)
       x[F::nv + k] = Rr(k % 3, k / 3);
   }

@@ -13,6 +13,7 @@
 #include <robots/kinova_gen3.hpp>
 
 #include "frame_functions_checks.hpp"
+#include "random_draw.hpp"
 
 namespace {
 
@@ -43,7 +44,7 @@ TEST(FrameFunctions, LogMapClosedFormNearZeroAndPi) {
     VecN<double, nv> q;
     for (int i = 0; i < nv; ++i)
       q[i] = u(gen);
-    const Eigen::Vector3d a = Eigen::Vector3d(u(gen), u(gen), u(gen)).normalized();
+    const Eigen::Vector3d a = arbor::test::draw3([&] { return u(gen); }).normalized();
     const auto pose = value<ad::FramePose<R, R::frame_id::end_effector_link>>(q);
     Eigen::Matrix3d Rf;
     for (int k = 0; k < 9; ++k)
@@ -95,7 +96,7 @@ TEST(FrameFunctions, CrossSumClosedForm) {
     VecN<double, nv> q;
     for (int i = 0; i < nv; ++i)
       q[i] = u(gen);
-    const Eigen::Vector3d a = Eigen::Vector3d(u(gen), u(gen), u(gen)).normalized();
+    const Eigen::Vector3d a = arbor::test::draw3([&] { return u(gen); }).normalized();
     const auto pose = value<ad::FramePose<R, f>>(q);
     Eigen::Matrix3d Rf;
     for (int k = 0; k < 9; ++k)

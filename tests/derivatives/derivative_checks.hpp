@@ -15,6 +15,7 @@
 
 #include "../dynamics/check_helpers.hpp"
 #include "alloc_guard.hpp"
+#include "random_draw.hpp"
 #include "reference.hpp"
 
 namespace arbor::test::derivative_checks {
@@ -41,10 +42,10 @@ State<R> random_state(std::mt19937& gen) {
     s.a[i] = u(gen);
     s.tau[i] = 5 * u(gen);
   }
-  s.g = Eigen::Vector3d(u(gen), u(gen), -9.81 + u(gen));
+  s.g = arbor::test::draw3([&] { return u(gen); }) + Eigen::Vector3d(0, 0, -9.81);
   for (auto& f : s.fext) {
-    f.f = Eigen::Vector3d(u(gen), u(gen), u(gen)) * 2;
-    f.n = Eigen::Vector3d(u(gen), u(gen), u(gen)) * 2;
+    f.f = arbor::test::draw3([&] { return u(gen); }) * 2;
+    f.n = arbor::test::draw3([&] { return u(gen); }) * 2;
   }
   return s;
 }
@@ -93,7 +94,8 @@ void matches_finite_differences(unsigned seed) {
       auto fd = [&](Data<R, double>& w, const Vec<n>& q, const Vec<n>& v, const Vec<n>& t) {
         return with_fext ? aba<R>(w, q, v, t, s.g, s.fext) : aba<R>(w, q, v, t, s.g);
       };
-      auto id_derivatives = [&](Data<R, double>& w, DerivativeData<R, double>& wd, const Vec<n>& a) {
+      auto id_derivatives = [&](Data<R, double>& w, DerivativeData<R, double>& wd,
+                                const Vec<n>& a) {
         if (with_fext)
           rnea_derivatives<R>(w, wd, s.q, s.v, a, s.g, s.fext);
         else

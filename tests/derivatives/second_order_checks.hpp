@@ -17,6 +17,7 @@
 
 #include "../dynamics/check_helpers.hpp"
 #include "alloc_guard.hpp"
+#include "random_draw.hpp"
 #include "reference.hpp"
 
 namespace arbor::test::second_order_checks {
@@ -43,7 +44,7 @@ State<R> random_state(std::mt19937& gen) {
     s.tau[i] = 5 * u(gen);
     s.lambda[i] = u(gen);
   }
-  s.g = Eigen::Vector3d(u(gen), u(gen), -9.81 + u(gen));
+  s.g = arbor::test::draw3([&] { return u(gen); }) + Eigen::Vector3d(0, 0, -9.81);
   return s;
 }
 

@@ -11,6 +11,7 @@
 
 #include "alloc_guard.hpp"
 #include "check_helpers.hpp"
+#include "random_draw.hpp"
 #include "random_robot.hpp"
 #include "textbook_rbd.hpp"
 
@@ -36,7 +37,7 @@ State<N> random_state(std::mt19937& gen) {
     s.a[i] = u(gen);
     s.tau[i] = 5 * u(gen);
   }
-  s.g = Eigen::Vector3d(u(gen), u(gen), -9.81 + u(gen));
+  s.g = arbor::test::draw3([&] { return u(gen); }) + Eigen::Vector3d(0, 0, -9.81);
   return s;
 }
 
