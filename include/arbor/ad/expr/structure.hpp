@@ -316,12 +316,12 @@ S scatter(const C& c) {
     using SV = typename S::Value;
     constexpr std::size_t N = Pos.size();
     static_assert(std::size_t(S::directions) == N, "compressed levels need equal directions");
-    S r;
-    if constexpr (K == 0) {  // nothing kept: c is the value alone (no c.d to name, for Clang)
-      r.v = scatter<L - 1, K, Pos, SV>(c);
-      for (std::size_t k = 0; k < N; ++k)
-        r.d[k] = SV{};
+    if constexpr (K == 0) {
+      // nothing kept: c is the value alone, every derivative zero (c.d is not named here, where
+      // it does not exist: Clang checks a discarded branch's non-dependent code)
+      return S(scatter<L - 1, K, Pos, SV>(c));
     } else {
+      S r;
       r.v = scatter<L - 1, K, Pos, SV>(c.v);
       [&]<std::size_t... D>(std::index_sequence<D...>) {
         auto one = [&](auto k) {
@@ -334,8 +334,8 @@ S scatter(const C& c) {
         (one(std::integral_constant<std::size_t, D>{}), ...);
       }
       (std::make_index_sequence<N>{});
+      return r;
     }
-    return r;
   }
 }
 
