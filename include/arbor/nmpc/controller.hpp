@@ -372,6 +372,8 @@ class Nmpc {
       const VecN<Scalar, ng> lg = lam_rows().template segment<ng>(Qp::constraint_offset(k));
       const Vx ld = lam_rows().template segment<nx>(Qp::dynamics_offset(k));
       ocp::linearize_path<K>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st);
+      if (settings_.input_regularization > Scalar(0))  // the proximal term (NmpcSettings)
+        st.R.diagonal().template head<nu>().array() += settings_.input_regularization;
       if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
           st.lg.hasNaN() || st.ug.hasNaN())  // (row bounds may be infinite)
         return NmpcStatus::non_finite_evaluation;
