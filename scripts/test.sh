@@ -52,10 +52,11 @@ stage() {  # name command... : runs the command, records its wall time and resul
   return "$rc"
 }
 
+build_parallel=(-j2)  # the host build runs alone; the concurrent builds share a jobserver (below)
 configure_and_build() {  # build-dir cmake-configure-args...
   local dir="$1"
   shift
-  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" -j2
+  cmake -S "$root" -B "$dir" "$@" >/dev/null && cmake --build "$dir" "${build_parallel[@]}"
 }
 
 run_tests() {  # build-dir [ctest-args...]
@@ -70,22 +71,43 @@ stage "set-up (apt)" bash "$root/scripts/setup.sh" || exit 1
 # template-heavy units in 1/1.7 of GCC 12's time and 1/1.8 of its memory (medians per unit, README,
 # Tests), and checks the library with a second front end. GCC, the compiler a Debian user builds
 # with, builds the ISA variants (-O3 -march=..., AVX2/AVX-512, the fast paths a user builds) and
-# the examples beside it (ARBOR_GCC_CXX, build-gcc/), and every target (GCC cross compilers).
+# the examples beside it (ARBOR_GCC_CXX, build-gcc/; they are not built twice), and the Cortex-M
+# targets (arm-none-eabi-gcc); AArch64 builds with Clang (target_chain, below).
 host_cxx="${ARBOR_HOST_CXX:-clang++}"
 gcc_cxx="${ARBOR_GCC_CXX:-g++}"
 
+# With the GCC job, the host build leaves the ISA variants and the examples to it (each built by
+# one compiler; ~6 min of compiler CPU); without it (ARBOR_GCC_CXX=""), the host builds them.
+host_only=()
+[ -n "$gcc_cxx" ] && host_only=(-DARBOR_ISA_VARIANTS=OFF -DARBOR_BUILD_EXAMPLES=OFF)
+
 echo "== host ($host_cxx)"
 stage "host: configure + build" configure_and_build "$build" -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_CXX_COMPILER="$host_cxx" -DARBOR_BUILD_TESTS=ON || exit 1
+  -DCMAKE_CXX_COMPILER="$host_cxx" -DARBOR_BUILD_TESTS=ON "${host_only[@]}" || exit 1
 # After the host build, the host tests and each target's chain (configure + build, then tests)
 # run as concurrent jobs: one build alone leaves a core idle in its serial tail (the last large
 # translation unit, linking, the emulator runs) and the host's longest test (IPOPT) runs alone
-# for about a minute; together they keep both cores busy (each job's build uses -j2, so up to six
-# compilers share the cores for a while: peak memory ~8 GB). Each job writes its output to a log,
-# printed when the job ends; a status line every minute says what is still running.
+# for about a minute; together they keep both cores busy (the builds share a jobserver, below).
+# Each job writes its output to a log, printed when the job ends; a status line every minute says
+# what is still running.
 mkdir -p "$build"
 records="$build/suite-stages.txt"
 : >"$records"
+
+# The concurrent builds share one GNU make jobserver (make 4.3's protocol: a pipe of tokens; each
+# make runs one job without a token and takes a token for each further one): with one token, at
+# most five compilers at once (four while every build runs, two for the last one) instead of the
+# eight of four `-j2` builds. Compilers sharing the two cores slow each other beyond their share
+# (four units at once took 13 % longer than the same units two at a time) and peak memory follows
+# their number. `cmake --build` without -j lets make join it through MAKEFLAGS.
+jobserver="$build/suite-jobserver"
+rm -f "$jobserver"
+if mkfifo "$jobserver" && exec {jobserver_fd}<>"$jobserver"; then
+  rm -f "$jobserver"  # (the open descriptor keeps the pipe)
+  printf 'x' >&"$jobserver_fd"
+  export MAKEFLAGS="-j --jobserver-auth=$jobserver_fd,$jobserver_fd"
+  build_parallel=()
+fi
 
 job_stage() {  # name command... : stage() for a job (a subshell): the record goes to a file
   local name="$1" t0=$SECONDS rc
@@ -98,20 +120,25 @@ job_stage() {  # name command... : stage() for a job (a subshell): the record go
 }
 
 target_chain() {  # target
-  local t="$1" tb="$build-$1"
+  local t="$1" tb="$build-$1" extra=()
+  # AArch64 Linux builds with Clang for the same triple (ARBOR_AARCH64_COMPILER, gcc or clang;
+  # toolchains/aarch64-linux.cmake): half of GCC's compile time and memory there. The Cortex-M
+  # targets build with arm-none-eabi-gcc, the firmware's compiler.
+  [ "$t" = aarch64-linux ] && extra=(-DARBOR_AARCH64_COMPILER="${ARBOR_AARCH64_COMPILER:-clang}")
   # Targets run the portable suites (harness, heap and fault traps, model contract, the RBD core
   # against the reference values and against the host's own results); the host runs everything.
   job_stage "$t: configure + build" configure_and_build "$tb" \
     --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$build/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$build" \
-    -DARBOR_PORTABLE_TESTS_ONLY=ON &&
+    -DARBOR_PORTABLE_TESTS_ONLY=ON "${extra[@]}" &&
     job_stage "$t: tests" run_tests "$tb"
 }
 
 gcc_build() {  # build-dir: the ISA variants and the examples with the second host compiler
   cmake -S "$root" -B "$1" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$gcc_cxx" \
-    -DARBOR_BUILD_TESTS=ON -DARBOR_GEN_EXECUTABLE="$build/gen/arbor-gen" >/dev/null &&
-    cmake --build "$1" -j2 --target arbor_isa_variant_tests robot_table contour
+    -DARBOR_BUILD_TESTS=ON -DARBOR_ISA_VARIANTS=ON -DARBOR_BUILD_EXAMPLES=ON \
+    -DARBOR_GEN_EXECUTABLE="$build/gen/arbor-gen" >/dev/null &&
+    cmake --build "$1" "${build_parallel[@]}" --target arbor_isa_variant_tests robot_table contour
 }
 
 gcc_chain() {
