@@ -1,5 +1,5 @@
 // QP solvers on every target (host, AArch64, Cortex-M7, Cortex-M4F), in double and float (the
-// Cortex-M4F in float only), on problems whose solutions are derived by hand below; no reference
+// Cortex-M7 in double, the Cortex-M4F in float), on problems whose solutions are derived by hand below; no reference
 // solver, no files, no heap.
 #include <cmath>
 #include <limits>
@@ -11,6 +11,9 @@
 
 #ifndef ARBOR_TEST_DOUBLE
 #define ARBOR_TEST_DOUBLE 1
+#endif
+#ifndef ARBOR_TEST_FLOAT
+#define ARBOR_TEST_FLOAT 1
 #endif
 
 namespace arbor::qp {
@@ -244,8 +247,8 @@ void ocp_update_and_shift() {
     EXPECT_NEAR(solver.state(k)(0), 0.9 - 0.1 * k, tol<S>());
 }
 
-// Double only where the FPU has it: the Cortex-M4F's double is software-emulated and the library
-// runs in float there (tests/qp/CMakeLists.txt defines ARBOR_TEST_DOUBLE=0 for it).
+// Bare metal runs the scalar its FPU has (tests/qp/CMakeLists.txt): the Cortex-M4F float (its
+// double is software-emulated), the Cortex-M7 double (its float is the M4F's code).
 #if ARBOR_TEST_DOUBLE
 TEST(QpPortable, Casadi3141Double) {
   casadi_3141<double>();
@@ -276,6 +279,7 @@ TEST(QpPortable, OcpUpdateAndShiftDouble) {
 }
 #endif
 
+#if ARBOR_TEST_FLOAT
 TEST(QpPortable, Casadi3141Float) {
   casadi_3141<float>();
 }
@@ -303,5 +307,6 @@ TEST(QpPortable, OcpInputBoundActiveFloat) {
 TEST(QpPortable, OcpUpdateAndShiftFloat) {
   ocp_update_and_shift<float>();
 }
+#endif
 
 }  // namespace
