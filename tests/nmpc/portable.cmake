@@ -2,6 +2,8 @@
 # AArch64, Cortex-M7 (double only) and Cortex-M4F (float only: each FPU's precision). No files, no
 # reference solver: the plant is plain RK4 code in the test.
 arbor_add_test(nmpc_portable_test SOURCES portable_test.cpp LABELS nmpc PORTABLE)
+target_compile_definitions(nmpc_portable_test PRIVATE ARBOR_TEST_DOUBLE=${arbor_test_double}
+                                                      ARBOR_TEST_FLOAT=${arbor_test_float})
 # The size matrix's float part (random_matrix_test.cpp, ARBOR_MATRIX_PART 2: a random 7-DoF robot,
 # nx = 14, nu = 7, N = 20: Gauss-Newton vs exact Hessian (host only), the hard tunnel after a
 # state jump, the RTI closed loop after a jump): SSE2 on the host, NEON on AArch64, no SIMD on

@@ -1,8 +1,8 @@
 // The pendulum's real-time-iteration closed loop on every target (host and AArch64 in double and
-// float, Cortex-M7 in double, Cortex-M4F in float: the precision of each FPU), with the controllers in
-// static storage and no heap. The plant is plain double code (problems.hpp's pendulum_ode,
-// integrated with plain RK4 at 10 steps per sample; the controller's model takes 2), so the
-// controller meets a (small) model mismatch.
+// float, Cortex-M7 in double, Cortex-M4F in float: the precision of each FPU), with the
+// controllers in static storage and no heap. The plant is plain double code (problems.hpp's
+// pendulum_ode, integrated with plain RK4 at 10 steps per sample; the controller's model takes 2),
+// so the controller meets a (small) model mismatch.
 //
 // Scenario: the pendulum starts at rest 0.2 rad from upright. The gravity torque there,
 // m g l sin(0.2) = 1.95 N m, is below the bound |u| <= 3 N m, but bringing it back fast saturates
@@ -112,31 +112,25 @@ void rti_closed_loop(int bound = 0) {
 
 }  // namespace
 
-// Bare metal runs the scalar its FPU has: the Cortex-M4F float (its double would be emulated in
-// software), the Cortex-M7 double (its float is the M4F's code with another FPU's instructions).
-#if !defined(ARBOR_BARE_METAL) || (defined(__ARM_FP) && (__ARM_FP & 8))
-#define ARBOR_PORTABLE_DOUBLE 1
-#endif
-#if !defined(ARBOR_BARE_METAL) || !(defined(__ARM_FP) && (__ARM_FP & 8))
-#define ARBOR_PORTABLE_FLOAT 1
-#endif
-#if ARBOR_PORTABLE_DOUBLE
+// The scalars of this build (ARBOR_TEST_DOUBLE, ARBOR_TEST_FLOAT: tests/CMakeLists.txt), each
+// Cortex-M its FPU's precision.
+#if ARBOR_TEST_DOUBLE
 TEST(NmpcPortable, PendulumRtiClosedLoopDouble) {
   rti_closed_loop<double>();
 }
 #endif
-#if ARBOR_PORTABLE_FLOAT
+#if ARBOR_TEST_FLOAT
 TEST(NmpcPortable, PendulumRtiClosedLoopFloat) {
   rti_closed_loop<float>();
 }
 #endif
 // the same with the feedback's QP bounded to 2 iterations (the NMPC's bounded feedback)
-#if ARBOR_PORTABLE_DOUBLE
+#if ARBOR_TEST_DOUBLE
 TEST(NmpcPortable, PendulumRtiClosedLoopBoundedFeedbackDouble) {
   rti_closed_loop<double>(2);
 }
 #endif
-#if ARBOR_PORTABLE_FLOAT
+#if ARBOR_TEST_FLOAT
 TEST(NmpcPortable, PendulumRtiClosedLoopBoundedFeedbackFloat) {
   rti_closed_loop<float>(2);
 }

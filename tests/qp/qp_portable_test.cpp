@@ -1,6 +1,6 @@
 // QP solvers on every target (host, AArch64, Cortex-M7, Cortex-M4F), in double and float (the
-// Cortex-M7 in double, the Cortex-M4F in float), on problems whose solutions are derived by hand below; no reference
-// solver, no files, no heap.
+// Cortex-M7 in double, the Cortex-M4F in float), on problems whose solutions are derived by hand
+// below; no reference solver, no files, no heap.
 #include <cmath>
 #include <limits>
 
@@ -8,13 +8,6 @@
 #include "arbor/qp/ocp_qp_solver.hpp"
 #include "arbor_test.hpp"
 #include "status_names.hpp"
-
-#ifndef ARBOR_TEST_DOUBLE
-#define ARBOR_TEST_DOUBLE 1
-#endif
-#ifndef ARBOR_TEST_FLOAT
-#define ARBOR_TEST_FLOAT 1
-#endif
 
 namespace arbor::qp {
 using ::arbor::test::status_names::operator<<;  // failure messages print status names
@@ -247,8 +240,8 @@ void ocp_update_and_shift() {
     EXPECT_NEAR(solver.state(k)(0), 0.9 - 0.1 * k, tol<S>());
 }
 
-// Bare metal runs the scalar its FPU has (tests/qp/CMakeLists.txt): the Cortex-M4F float (its
-// double is software-emulated), the Cortex-M7 double (its float is the M4F's code).
+// The scalars of this build (ARBOR_TEST_DOUBLE, ARBOR_TEST_FLOAT: tests/CMakeLists.txt), each
+// Cortex-M its FPU's precision.
 #if ARBOR_TEST_DOUBLE
 TEST(QpPortable, Casadi3141Double) {
   casadi_3141<double>();
