@@ -203,7 +203,7 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
                     const VecN<T, P::nx>& lam_dyn, const VecN<T, qp_rows(P::ng)>& lam_g,
                     Stage& st) {
   constexpr int nx = P::nx, nu = P::nu, ns = P::ns, n = nx + nu;
-  constexpr T inf = std::numeric_limits<T>::infinity();
+  const T inf = std::numeric_limits<T>::infinity();
   const VecN<T, nu> u = w.template head<nu>();
   MatN<T, n> hess = MatN<T, n>::Zero();
   VecN<T, n> grad = VecN<T, n>::Zero();
@@ -327,7 +327,7 @@ template <HessianKind H, class P, class T, class Terminal>
 void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p,
                         const VecN<T, qp_rows(P::ngn)>& lam_g, Terminal& t) {
   constexpr int nx = P::nx;
-  constexpr T inf = std::numeric_limits<T>::infinity();
+  const T inf = std::numeric_limits<T>::infinity();
   const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();  // terminal terms do not depend on u
   t.Q.setZero();
   t.q.setZero();
