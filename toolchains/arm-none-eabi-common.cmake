@@ -36,7 +36,8 @@ elseif(ARBOR_CORTEX_M_COMPILER STREQUAL "clang")
   # The system headers GCC uses for these CPU flags (newlib; libstdc++ with its multilib
   # directory), without GCC's own compiler headers (Clang has its own).
   separate_arguments(_arbor_cpu_list UNIX_COMMAND "${ARBOR_CPU_FLAGS}")
-  execute_process(COMMAND arm-none-eabi-g++ ${_arbor_cpu_list} -xc++ -E -v /dev/null
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env LC_ALL=C arm-none-eabi-g++ ${_arbor_cpu_list}
+                          -xc++ -E -v /dev/null
                   OUTPUT_QUIET ERROR_VARIABLE _arbor_gcc_v RESULT_VARIABLE _arbor_rc)
   execute_process(COMMAND arm-none-eabi-gcc -print-libgcc-file-name
                   OUTPUT_VARIABLE _arbor_libgcc OUTPUT_STRIP_TRAILING_WHITESPACE)
@@ -47,6 +48,10 @@ elseif(ARBOR_CORTEX_M_COMPILER STREQUAL "clang")
   get_filename_component(_arbor_gcc_dir "${_arbor_libgcc}" DIRECTORY)
   string(REGEX REPLACE ".*#include <...> search starts here:\n(.*)\nEnd of search list.*" "\\1"
                        _arbor_dirs "${_arbor_gcc_v}")
+  if(NOT _arbor_gcc_v MATCHES "search starts here:\n.*\nEnd of search list")
+    message(FATAL_ERROR "ARBOR_CORTEX_M_COMPILER=clang: no include search list in the output of "
+                        "arm-none-eabi-g++ -v:\n${_arbor_gcc_v}")
+  endif()
   string(REPLACE "\n" ";" _arbor_dirs "${_arbor_dirs}")
   set(_arbor_clang_c_flags "-nostdlibinc -fshort-enums")
   set(_arbor_clang_flags "${_arbor_clang_c_flags}")
