@@ -46,12 +46,12 @@ elseif(ARBOR_CORTEX_M_COMPILER STREQUAL "clang")
                         "libraries and driver): not found")
   endif()
   get_filename_component(_arbor_gcc_dir "${_arbor_libgcc}" DIRECTORY)
-  string(REGEX REPLACE ".*#include <...> search starts here:\n(.*)\nEnd of search list.*" "\\1"
-                       _arbor_dirs "${_arbor_gcc_v}")
   if(NOT _arbor_gcc_v MATCHES "search starts here:\n.*\nEnd of search list")
     message(FATAL_ERROR "ARBOR_CORTEX_M_COMPILER=clang: no include search list in the output of "
                         "arm-none-eabi-g++ -v:\n${_arbor_gcc_v}")
   endif()
+  string(REGEX REPLACE ".*#include <...> search starts here:\n(.*)\nEnd of search list.*" "\\1"
+                       _arbor_dirs "${_arbor_gcc_v}")
   string(REPLACE "\n" ";" _arbor_dirs "${_arbor_dirs}")
   set(_arbor_clang_c_flags "-nostdlibinc -fshort-enums")
   set(_arbor_clang_flags "${_arbor_clang_c_flags}")
@@ -72,16 +72,18 @@ elseif(ARBOR_CORTEX_M_COMPILER STREQUAL "clang")
   # GCC's driver links: Clang's objects with newlib, libstdc++ and libgcc of the CPU's multilib
   set(CMAKE_C_LINK_EXECUTABLE
       "arm-none-eabi-gcc <CMAKE_C_LINK_FLAGS> <LINK_FLAGS> <OBJECTS> -o <TARGET> <LINK_LIBRARIES>")
-  set(CMAKE_CXX_LINK_EXECUTABLE
-      "arm-none-eabi-g++ <CMAKE_CXX_LINK_FLAGS> <LINK_FLAGS> <OBJECTS> -o <TARGET> <LINK_LIBRARIES>")
+  set(CMAKE_CXX_LINK_EXECUTABLE "arm-none-eabi-g++ <CMAKE_CXX_LINK_FLAGS> <LINK_FLAGS> <OBJECTS> \
+-o <TARGET> <LINK_LIBRARIES>")
 else()
   message(FATAL_ERROR "ARBOR_CORTEX_M_COMPILER: gcc or clang, not '${ARBOR_CORTEX_M_COMPILER}'")
 endif()
 
-set(CMAKE_C_FLAGS_INIT "${ARBOR_CPU_FLAGS} ${_arbor_clang_c_flags} -ffunction-sections -fdata-sections")
+set(CMAKE_C_FLAGS_INIT
+    "${ARBOR_CPU_FLAGS} ${_arbor_clang_c_flags} -ffunction-sections -fdata-sections")
 set(CMAKE_CXX_FLAGS_INIT "${ARBOR_CPU_FLAGS} ${_arbor_clang_flags} ${_arbor_cxx_flags}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT
-    "${ARBOR_CPU_FLAGS} ${_arbor_clang_link_flags} --specs=nano.specs -nostartfiles -Wl,--gc-sections \
+    "${ARBOR_CPU_FLAGS} ${_arbor_clang_link_flags} --specs=nano.specs -nostartfiles \
+-Wl,--gc-sections \
 -Wl,--wrap=malloc,--wrap=free,--wrap=calloc,--wrap=realloc,--wrap=_malloc_r \
 -T ${_arbor_targets_dir}/cortex-m/mps2.ld")
 
