@@ -33,13 +33,28 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
 namespace arbor::adgen {
 
-enum class Op : std::uint8_t { constant, input, add, sub, mul, div, neg, sqrt, sin, cos };
+// pos: max(x, 0); step: x > 0 ? 1 : 0 (pos's derivative)
+enum class Op : std::uint8_t {
+  constant,
+  input,
+  add,
+  sub,
+  mul,
+  div,
+  neg,
+  sqrt,
+  sin,
+  cos,
+  pos,
+  step
+};
 
 struct Node {
   Op op;
@@ -171,6 +186,10 @@ class Graph {
         return std::sin(x);
       case Op::cos:
         return std::cos(x);
+      case Op::pos:
+        return x > 0.0 ? x : 0.0;
+      case Op::step:
+        return x > 0.0 ? 1.0 : 0.0;
       default:
         return 0.0;
     }
@@ -222,6 +241,12 @@ class Sym {
   friend Sym sqrt(const Sym& a) { return node(current->make(Op::sqrt, a.id_)); }
   friend Sym sin(const Sym& a) { return node(current->make(Op::sin, a.id_)); }
   friend Sym cos(const Sym& a) { return node(current->make(Op::cos, a.id_)); }
+  /// max(a, 0) as an operation (arbor::positive_part's customisation: no value branch).
+  friend Sym positive_part(const Sym& a) { return node(current->make(Op::pos, a.id_)); }
+  /// a is the constant zero (arbor::known_zero's customisation: structure, not value).
+  friend bool known_zero(const Sym& a) { return current->is_c(a.id_, 0.0); }
+  /// a and b are one node (arbor::known_equal's customisation: structure, not value).
+  friend bool known_equal(const Sym& a, const Sym& b) { return a.id_ == b.id_; }
 
   friend bool operator==(const Sym& a, const Sym& b) { return cmp(a, b) == 0; }
   friend bool operator!=(const Sym& a, const Sym& b) { return cmp(a, b) != 0; }
@@ -234,8 +259,11 @@ class Sym {
  private:
   static int cmp(const Sym& a, const Sym& b) {
     Graph& g = *current;
-    if (!(g.is_const(a.id_) && g.is_const(b.id_)))
+    if (!(g.is_const(a.id_) && g.is_const(b.id_))) {
       g.value_branch = true;
+      if (std::getenv("ARBOR_ADGEN_TRAP_BRANCH"))  // debugging: stop where the trace branches
+        std::abort();
+    }
     const double x = g.val[a.id_], y = g.val[b.id_];
     return x < y ? -1 : (x > y ? 1 : 0);
   }
@@ -322,7 +350,10 @@ inline std::vector<int> jacobian_forward(Graph& g, const std::vector<int>& outs,
         case Op::cos:
           r = g.make(Op::mul, ta, g.make(Op::neg, g.make(Op::sin, nd.a)));
           break;
-        default:
+        case Op::pos:
+          r = g.make(Op::mul, ta, g.make(Op::step, nd.a));
+          break;
+        default:  // (step: derivative zero)
           break;
       }
       t[i] = (r >= 0 && g.is_c(r, 0.0)) ? -1 : r;
@@ -388,7 +419,10 @@ inline std::vector<int> jacobian_reverse(Graph& g, const std::vector<int>& outs,
         case Op::cos:
           acc(nd.a, g.make(Op::mul, w, g.make(Op::sin, nd.a)), true);
           break;
-        default:
+        case Op::pos:
+          acc(nd.a, g.make(Op::mul, w, g.make(Op::step, nd.a)), false);
+          break;
+        default:  // (step: derivative zero)
           break;
       }
     }
@@ -456,8 +490,13 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
   char buf[160];
   auto constant = [&](int i) -> std::string {
     // shortest text that reads back as the same double
+    const double c = g.nodes[i].c;
+    if (std::isinf(c))  // (a row bound's infinity; the emitted file includes <limits>)
+      return std::string(c < 0 ? "-" : "") + "std::numeric_limits<S>::infinity()";
+    if (std::isnan(c))
+      return "std::numeric_limits<S>::quiet_NaN()";
     char num[64];
-    const auto r = std::to_chars(num, num + sizeof num, g.nodes[i].c);
+    const auto r = std::to_chars(num, num + sizeof num, c);
     *r.ptr = '\0';
     std::snprintf(buf, sizeof buf, "S(%s)", num);
     return buf;
@@ -481,6 +520,10 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
       return ref(nd.a) + bin + ref(nd.b);
     if (nd.op == Op::neg)
       return "-" + ref(nd.a);
+    if (nd.op == Op::pos)
+      return "(" + ref(nd.a) + " > S(0) ? " + ref(nd.a) + " : S(0))";
+    if (nd.op == Op::step)
+      return "(" + ref(nd.a) + " > S(0) ? S(1) : S(0))";
     return std::string(nd.op == Op::sqrt  ? "sqrt("
                        : nd.op == Op::sin ? "sin("
                                           : "cos(") +
@@ -656,3 +699,25 @@ struct NumTraits<arbor::adgen::Sym> : NumTraits<double> {
   static inline int digits10() { return NumTraits<double>::digits10(); }
 };
 }  // namespace Eigen
+
+/// The limits of the tracing scalar: those of double, as constant nodes of the current graph
+/// (the library writes infinite row bounds as numeric_limits<T>::infinity()).
+template <>
+struct std::numeric_limits<arbor::adgen::Sym> {
+  using D = std::numeric_limits<double>;
+  using Sym = arbor::adgen::Sym;
+  static constexpr bool is_specialized = true;
+  static constexpr bool is_signed = true;
+  static constexpr bool is_integer = false;
+  static constexpr bool is_exact = false;
+  static constexpr bool has_infinity = true;
+  static constexpr bool has_quiet_NaN = true;
+  static constexpr int digits = D::digits;
+  static constexpr int digits10 = D::digits10;
+  static Sym infinity() { return Sym(D::infinity()); }
+  static Sym quiet_NaN() { return Sym(D::quiet_NaN()); }
+  static Sym epsilon() { return Sym(D::epsilon()); }
+  static Sym max() { return Sym(D::max()); }
+  static Sym min() { return Sym(D::min()); }
+  static Sym lowest() { return Sym(D::lowest()); }
+};

@@ -168,8 +168,11 @@ struct PoseCache {
   /// p and J of frame f at q_ if they were stored for f at exactly q_.
   bool lookup(int f, const VecN<T, R::nv>& q_, VecN<T, 3>& p_,
               Eigen::Matrix<T, 3, R::nv>& J_) const {
-    if (frame != f || !(q_.array() == q.array()).all())
+    if (frame != f)
       return false;
+    for (int i = 0; i < R::nv; ++i)
+      if (!known_equal(q_[i], q[i]))  // (a tracing scalar: the same node)
+        return false;
     p_ = p;
     J_ = J;
     return true;

@@ -148,4 +148,27 @@ inline void sincos(const T& x, T& s, T& c) {
   }
 }
 
+/// True when x is known to be zero, so that work multiplied by it may be skipped. Numbers: x ==
+/// 0. A tracing scalar (a code generator's) overloads `known_zero` in its namespace, found by
+/// ADL, to answer from structure only (the constant zero), so that a skip never depends on the
+/// value at the point it traces at.
+template <class T>
+constexpr bool known_zero(const T& x) {
+  return x == T(0);
+}
+
+/// True when a and b are known to be equal, so that a value computed at one may be reused at the
+/// other. Numbers: a == b (NaN never). A tracing scalar answers from structure (the same node).
+template <class T>
+constexpr bool known_equal(const T& a, const T& b) {
+  return a == b;
+}
+
+/// max(x, 0). A tracing scalar overloads `positive_part` in its namespace (found by ADL) with an
+/// operation of its own instead of a comparison of values.
+template <class T>
+constexpr T positive_part(const T& x) {
+  return x > T(0) ? x : T(0);
+}
+
 }  // namespace arbor

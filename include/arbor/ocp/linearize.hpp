@@ -37,6 +37,7 @@
 #include "arbor/ad/expr/evaluate.hpp"
 #include "arbor/ad/expr/reductions.hpp"
 #include "arbor/ad/expr/structure.hpp"
+#include "arbor/core/math.hpp"
 #include "arbor/ocp/outer.hpp"
 #include "arbor/ocp/problem.hpp"
 #include "arbor/qp/problem.hpp"
@@ -96,7 +97,7 @@ void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& 
     T val[n];
     for (int i = 0; i < m; ++i) {
       const T hi = scale * h[i];
-      if (hi == T(0))
+      if (known_zero(hi))
         continue;
       // the row's entries in the pattern that are not zero at this point (a pattern may be a
       // superset: an unanalysed node's rows have every direction)
@@ -104,7 +105,7 @@ void add_gauss_newton_lower(MatN<T, n>& hess, const Phi& phi, const VecN<T, m>& 
       for (int a = 0; a < Pat.count[std::size_t(i)]; ++a) {
         const int k = Pat.cols[std::size_t(i)][std::size_t(a)];
         const T v = J(i, k);
-        if (v != T(0)) {
+        if (!known_zero(v)) {
           idx[c] = k;
           val[c] = v;
           ++c;
@@ -263,9 +264,10 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
       const T mui = lam_g[row];
       mu[nl] = mui;
       if constexpr (H == HessianKind::gauss_newton) {
-        if (mui > T(0))
+        const T scale = positive_part(mui);  // (skipped at a zero or negative multiplier)
+        if (!known_zero(scale))
           detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
-              hess, c.psi, VecN<T, m>(cv), J, mui);
+              hess, c.psi, VecN<T, m>(cv), J, scale);
       }
       if constexpr (C::soft) {
         st.D(row, nu + slack) = T(-1);
@@ -358,9 +360,10 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
       t.ug[row] = -c.psi.template value<T, m>(cv);
       mu[row] = lam_g[row];
       if constexpr (H == HessianKind::gauss_newton) {
-        if (lam_g[row] > T(0))
+        const T scale = positive_part(lam_g[row]);
+        if (!known_zero(scale))
           detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
-              t.Q, c.psi, VecN<T, m>(cv), J, T(lam_g[row]));
+              t.Q, c.psi, VecN<T, m>(cv), J, scale);
       }
       ++row;
     } else {

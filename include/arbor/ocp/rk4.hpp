@@ -211,7 +211,7 @@ struct Rk4Expr {
         k[i].v = kv[i];
         for (int j = 0; j < n; ++j) {
           const B a = k1[i].d[o0 + j];
-          if (a != B(0)) {
+          if (!known_zero(a)) {  // (a tracing scalar: structural zeros only)
             for (int d = 0; d < K; ++d)
               k[i].d[d] += a * xs[j].d[d];
             k[i].d[o0 + j] -= a;
