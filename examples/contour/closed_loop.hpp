@@ -27,7 +27,16 @@
 #include "arbor/nmpc/controller.hpp"
 #include "arbor/nmpc/momentum_observer.hpp"
 #include "plant.hpp"
+#include "stage_definition.hpp"
 #include "task.hpp"
+
+/// 1: the loops use generated stage code where it exists (ContourLoop::has_generated_stage).
+#ifndef CONTOUR_GENERATED_STAGE
+#define CONTOUR_GENERATED_STAGE 0
+#endif
+#if CONTOUR_GENERATED_STAGE
+#include "contour_stages_ad.hpp"  // (arbor_add_stage_ad: ARBOR_CONTOUR_GENERATED_STAGE)
+#endif
 
 namespace contour {
 
@@ -89,12 +98,6 @@ struct Options {
 /// "Float").
 constexpr double float_qp_tol_primal = 3e-5;
 
-/// The controller's default tunnel back-off [m] (Options::backoff < 0): the margin for the
-/// linearisation error of real-time iteration (double, 1e-4: the plant reached 10.002 mm without
-/// it) and, in float, for the QP's looser primal tolerance (3e-4; README.md, "Float").
-template <class Scalar>
-constexpr double default_backoff = std::is_same_v<Scalar, float> ? 3e-4 : 1e-4;
-
 /// The default timer of ContourLoop: the host's steady clock, in microseconds. A timer is a type
 /// with `Stamp now()` and `double elapsed(Stamp from, Stamp to)`.
 struct SteadyTimer {
@@ -132,7 +135,19 @@ template <Formulation F, class Tag, bool Soft, class Scalar = double, class Time
 class ContourLoop {
  public:
   using W = Workspace<Tag, Scalar>;
-  using Problem = decltype(make_problem<F, Tag, Soft>(std::declval<W&>(), Reference{}));
+  using ExprProblem = decltype(make_problem<F, Tag, Soft>(std::declval<W&>(), Reference{}));
+  /// The problem definition of generated stage code (stage_definition.hpp) for this loop.
+  using StageDef = StageDefinition<F, Soft, Scalar>;
+  /// The controller's Gauss-Newton stages come from generated code (built with
+  /// CONTOUR_GENERATED_STAGE=1, the analytical provider and the definition's header included:
+  /// CMake ARBOR_CONTOUR_GENERATED_STAGE) when the run's options are the definition's
+  /// (generated_stage_applies), else from the expression layer.
+  static constexpr bool has_generated_stage = CONTOUR_GENERATED_STAGE &&
+                                              std::is_same_v<Tag, arbor::ad::Analytical> &&
+                                              arbor::ocp::GeneratedStage<StageDef>::available;
+  using Problem =
+      std::conditional_t<has_generated_stage, arbor::ocp::WithGeneratedStage<ExprProblem, StageDef>,
+                         ExprProblem>;
   using Controller = arbor::nmpc::Nmpc<Problem, Scalar>;
   using PlantModel = Plant<Robot>;
   using PayloadPlant = Plant<PayloadRobot>;
@@ -144,9 +159,11 @@ class ContourLoop {
   explicit ContourLoop(const Options& o)
       : options_(o),
         ref_(make_reference(o.c)),
-        problem_(with_margin(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - backoff(o),
-                                                        o.scaled_tunnel || o.sqp),
-                             o.qd_margin)),
+        problem_(with_generated(
+            with_margin(make_problem<F, Tag, Soft>(ws_, ref_, o.soft_weight, rho - backoff(o),
+                                                   o.scaled_tunnel || o.sqp),
+                        o.qd_margin),
+            o)),
         ctrl_(problem_),
         rng_(o.seed) {
     // The controller's model with the plant's payload (a point mass at the end-effector frame)
@@ -187,8 +204,32 @@ class ContourLoop {
     return o.backoff < 0 ? default_backoff<Scalar> : o.backoff;
   }
 
+  /// The generated stage code sees the definition's constants and the robot as generated: it
+  /// applies when the run's reference, tunnel and slack weight are the definition's and no
+  /// payload is declared on the controller's model.
+  static bool generated_stage_applies(const Options& o) {
+    return has_generated_stage && o.c == StageDef::c && rho - backoff(o) == StageDef::radius &&
+           !(o.scaled_tunnel || o.sqp) && (!Soft || o.soft_weight == StageDef::soft_weight) &&
+           !o.known_payload;
+  }
+  /// True when the controller's stages come from generated code.
+  bool generated_stage() const {
+    if constexpr (has_generated_stage)
+      return problem_.generated;
+    else
+      return false;
+  }
+
+  /// The problem, with generated stages where they exist and apply (generated_stage_applies).
+  static Problem with_generated(const ExprProblem& p, const Options& o) {
+    if constexpr (has_generated_stage)
+      return Problem(p, generated_stage_applies(o));
+    else
+      return p;
+  }
+
   /// The problem with the velocity bounds (1 - margin) qd_max.
-  static Problem with_margin(Problem p, double margin) {
+  static ExprProblem with_margin(ExprProblem p, double margin) {
     for (int i = 0; i < nq; ++i) {
       p.lbx[nq + i] = -(1 - margin) * qd_max;
       p.ubx[nq + i] = (1 - margin) * qd_max;

@@ -329,6 +329,11 @@ int main(int argc, char** argv) {
                         : "+0.5 kg payload (unknown to the controller)",
       o.noise > 0 ? ", measurement noise" : "");
   std::printf("plant: %s\n", plant_name.c_str());
+  std::printf("stage linearisations: %s\n",
+              loop.generated_stage()      ? "generated code (ocp/generated_stage.hpp)"
+              : Loop::has_generated_stage ? "expression layer (these options are not the "
+                                            "generated code's: stage_definition.hpp)"
+                                          : "expression layer");
   if (o.observer)
     std::printf("momentum observer: gain %g 1/s, updated %s\n", o.observer_gain,
                 o.observer_plant_rate ? "after every plant step" : "once per sample");

@@ -56,6 +56,7 @@
 #include "arbor/nmpc/kkt.hpp"
 #include "arbor/nmpc/settings.hpp"
 #include "arbor/nmpc/status.hpp"
+#include "arbor/ocp/generated_stage.hpp"
 #include "arbor/ocp/linearize.hpp"
 #include "arbor/qp/ocp_interior_point.hpp"
 #include "arbor/qp/ocp_qp_solver.hpp"

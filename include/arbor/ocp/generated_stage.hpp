@@ -1,0 +1,124 @@
+// arbor::ocp: Gauss-Newton stage linearisations from generated code. The build (CMake
+// arbor_add_stage_ad, gen/ad/ArborAddStageAd.cmake) traces linearize_path and linearize_terminal
+// of a problem definition once at gen/ad's symbolic scalar and writes every QP block of a path
+// stage (A, B, b, Q, S, R, q, r, C, D, lg, ug) and of the terminal stage (Q, q, C, lg, ug) as one
+// straight-line function each, generic over the scalar: GeneratedStage<Def>. The expression
+// layer stays the reference it is tested against (tests/ocp/generated_stage_test.cpp); the
+// values agree to round-off wherever both are finite.
+//
+//   struct MyStage {                                   // the problem definition
+//     template <class T> using Workspace = ...;        // RBD workspaces at scalar T
+//     template <class W> static auto problem(W& ws);   // the problem on them
+//   };
+//   // CMake: arbor_add_stage_ad(my_stage HEADER my_stage_ad.hpp INCLUDE my_stage.hpp
+//   //                           DEFINITIONS MyStage)  -> GeneratedStage<MyStage>
+//   static MyStage::Workspace<double> ws;
+//   const auto problem = ocp::with_generated_stage<MyStage>(MyStage::problem(ws));
+//   static nmpc::Nmpc<decltype(problem)> ctrl(problem);  // its SCQP stages: the generated code
+//
+// WithGeneratedStage<P, Def> is P (its expressions still serve the merit function, the shift,
+// the exact Hessian and every other evaluation); only Gauss-Newton linearisations change. What
+// the trace compiles in: every constant of the definition (weights, references, radii, bounds of
+// constraint rows): values that change at run time must be stage parameters (p). The problem's
+// type must be the definition's at the controller's scalar (a static_assert checks it), so a
+// differently built problem (another RK4 sensitivity, another provider) does not compile.
+// Branches: linearize_path skips zero entries and a constraint's Gauss-Newton term at a
+// multiplier <= 0 (known_zero, positive_part in core/math.hpp); the generated code keeps only
+// the structural zeros and computes max(mu, 0) instead: the same values, without the skip.
+// Cost: the generated operations (GeneratedStage<Def>::path_ops, terminal_ops); stack: the
+// chunks' shared values (gen/ad's emit_function), no heap, no statics.
+#pragma once
+
+#include <type_traits>
+#include <utility>
+
+#include "arbor/core/math.hpp"
+#include "arbor/ocp/linearize.hpp"
+
+namespace arbor::ocp {
+
+/// Generated stage code of problem definition Def (specialised in the header arbor_add_stage_ad
+/// writes): static path(...) and terminal(...), their operation counts, and
+/// Problem<T>, the type of Def's problem at scalar T. available = false: none.
+template <class Def>
+struct GeneratedStage {
+  static constexpr bool available = false;
+};
+
+/// The type of problem definition Def's problem at scalar T.
+template <class Def, class T>
+using DefinedProblem = std::remove_cvref_t<decltype(Def::problem(
+    std::declval<typename Def::template Workspace<T>&>()))>;
+
+/// Problem P (Def's problem at some scalar) whose Gauss-Newton stage linearisations come from
+/// GeneratedStage<Def>; everything else is P's.
+template <class P, class Def>
+struct WithGeneratedStage : P {
+  using Definition = Def;  ///< the problem definition the code was generated from
+  using Base = P;          ///< the problem of the expression layer
+  /// Use the generated code (default). Set it to false before a controller copies the problem
+  /// when something the generated code cannot see applies: other constants than the
+  /// definition's, a payload declared on the RBD workspace at run time (ad::set_payload); the
+  /// stages then come from the expression layer (one branch per stage).
+  bool generated = true;
+  explicit WithGeneratedStage(const P& p, bool use_generated = true)
+      : P(p), generated(use_generated) {}
+  /// The problem of the expression layer (the reference).
+  const P& expressions() const { return *this; }
+};
+
+/// P with Def's generated stage code (see the top of this file).
+template <class Def, class P>
+WithGeneratedStage<P, Def> with_generated_stage(const P& problem) {
+  static_assert(GeneratedStage<Def>::available,
+                "no generated stage code for this definition: generate it (CMake "
+                "arbor_add_stage_ad) and include its header before this call");
+  return WithGeneratedStage<P, Def>(problem);
+}
+
+namespace detail {
+template <class P, class Def, class T>
+constexpr void check_generated_problem() {
+  static_assert(std::is_same_v<P, DefinedProblem<Def, T>>,
+                "the problem is not the one its definition builds at the controller's scalar "
+                "(another expression, sensitivity or provider than the generated code's)");
+}
+}  // namespace detail
+
+/// linearize_path for a problem with generated stages: Gauss-Newton from GeneratedStage<Def>,
+/// the exact Hessian from the expression layer.
+template <HessianKind H, class P, class Def, class T, class Stage>
+void linearize_path(const WithGeneratedStage<P, Def>& prob, const VecN<T, P::nx>& x,
+                    const VecN<T, P::nu + P::ns>& w, const VecN<T, P::np>& p,
+                    const VecN<T, P::nx>& x_next, const VecN<T, P::nx>& lam_dyn,
+                    const VecN<T, qp_rows(P::ng)>& lam_g, Stage& st) {
+  if constexpr (H == HessianKind::gauss_newton) {
+    detail::check_generated_problem<P, Def, T>();
+    if (!prob.generated)
+      return linearize_path<H>(prob.expressions(), x, w, p, x_next, lam_dyn, lam_g, st);
+    GeneratedStage<Def>::template path<T>(
+        x.data(), w.data(), p.data(), x_next.data(), lam_dyn.data(), lam_g.data(), st.A.data(),
+        st.B.data(), st.b.data(), st.Q.data(), st.S.data(), st.R.data(), st.q.data(), st.r.data(),
+        st.C.data(), st.D.data(), st.lg.data(), st.ug.data());
+  } else {
+    linearize_path<H>(prob.expressions(), x, w, p, x_next, lam_dyn, lam_g, st);
+  }
+}
+
+/// linearize_terminal for a problem with generated stages (see linearize_path above).
+template <HessianKind H, class P, class Def, class T, class Terminal>
+void linearize_terminal(const WithGeneratedStage<P, Def>& prob, const VecN<T, P::nx>& x,
+                        const VecN<T, P::np>& p, const VecN<T, qp_rows(P::ngn)>& lam_g,
+                        Terminal& t) {
+  if constexpr (H == HessianKind::gauss_newton) {
+    detail::check_generated_problem<P, Def, T>();
+    if (!prob.generated)
+      return linearize_terminal<H>(prob.expressions(), x, p, lam_g, t);
+    GeneratedStage<Def>::template terminal<T>(x.data(), p.data(), lam_g.data(), t.Q.data(),
+                                              t.q.data(), t.C.data(), t.lg.data(), t.ug.data());
+  } else {
+    linearize_terminal<H>(prob.expressions(), x, p, lam_g, t);
+  }
+}
+
+}  // namespace arbor::ocp

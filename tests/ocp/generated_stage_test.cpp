@@ -1,0 +1,210 @@
+// Generated stage code (arbor/ocp/generated_stage.hpp, gen/ad/adgen_stage.hpp) against its
+// reference, the expression layer (ocp::linearize_path / linearize_terminal, dual numbers through
+// the same problem): every QP block of path and terminal stages at random points, with
+// multipliers of both signs and zero (the Gauss-Newton term of a convex row is linearize_path's
+// branch, the generated code's max(mu, 0)), on three definitions (stage_definitions.hpp: the
+// contour OCP-FD and OCP-ID on the Kinova, a soft-tunnel task on a random 3-joint robot); the
+// generated code at float against the expression layer at double; and the controller: an RTI
+// loop of Nmpc on the generated stages against the same loop on the expression layer.
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <type_traits>
+
+#include "arbor/nmpc/controller.hpp"
+#include "arbor_test.hpp"
+#include "stage_definitions_ad.hpp"
+
+namespace {
+
+using namespace arbor;
+using ocp::HessianKind;
+
+/// max |a - b| / (1 + max |b|) over the finite entries of b; an infinite entry of b must be
+/// matched exactly (the row bounds' infinities); NaN anywhere: infinity.
+template <class A, class B>
+double rel_diff(const A& a, const B& b) {
+  double d = 0, s = 0;
+  for (int j = 0; j < int(b.cols()); ++j)
+    for (int i = 0; i < int(b.rows()); ++i) {
+      const double x = double(a(i, j)), y = double(b(i, j));
+      if (std::isnan(x) || std::isnan(y))
+        return INFINITY;
+      if (std::isinf(y)) {
+        if (x != y)
+          return INFINITY;
+        continue;
+      }
+      d = std::max(d, std::abs(x - y));
+      s = std::max(s, std::abs(y));
+    }
+  return d / (1 + s);
+}
+
+/// A random point of definition Def's stage: states, inputs, slacks, parameters, successor,
+/// multipliers uniform in [-0.6, 0.6] (inputs x 3); row multipliers -0.3, 0 or in (0, 1].
+template <class P>
+struct Point {
+  static constexpr int nx = P::nx, nw = P::nu + P::ns, np = P::np;
+  static constexpr int ng = ocp::qp_rows(P::ng), ngn = ocp::qp_rows(P::ngn);
+  VecN<double, nx> x, xn, lam;
+  VecN<double, nw> w;
+  VecN<double, np> p;
+  VecN<double, ng> lg;
+  VecN<double, ngn> lgn;
+  explicit Point(std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-0.6, 0.6), pos(0.0, 1.0);
+    for (int i = 0; i < nx; ++i) {
+      x[i] = u(rng);
+      xn[i] = u(rng);
+      lam[i] = u(rng);
+    }
+    for (int i = 0; i < nw; ++i)
+      w[i] = 3 * u(rng);
+    for (int i = 0; i < np; ++i)
+      p[i] = u(rng);
+    auto mult = [&] {
+      const int c = int(rng() % 3);
+      return c == 0 ? -0.3 : (c == 1 ? 0.0 : pos(rng) + 1e-3);
+    };
+    for (int i = 0; i < ng; ++i)
+      lg[i] = mult();
+    for (int i = 0; i < ngn; ++i)
+      lgn[i] = mult();
+  }
+};
+
+/// Path and terminal blocks of generated code and expression layer at `points` random points:
+/// at double (the same problem, through with_generated_stage) within tol, and the generated code
+/// at float against the expression layer at double within ftol.
+template <class Def>
+void check_definition(const char* name, int points, unsigned seed, double tol, double ftol) {
+  static typename Def::template Workspace<double> ws;  // (large: static storage)
+  const auto prob = Def::problem(ws);
+  using P = std::remove_cvref_t<decltype(prob)>;
+  using G = ocp::GeneratedStage<Def>;
+  const auto gen = ocp::with_generated_stage<Def>(prob);
+  using Qp = ocp::QpOf<P, double>;
+  using Qf = ocp::QpOf<P, float>;
+  static_assert(G::nx == P::nx && G::nw == P::nu + P::ns && G::np == P::np && G::ng == Qp::ng &&
+                G::ngn == Qp::ngn);
+  std::printf(
+      "%s: nx %d, nw %d, np %d, ng %d, ngn %d; generated operations: path %ld, terminal "
+      "%ld\n",
+      name, G::nx, G::nw, G::np, G::ng, G::ngn, G::path_ops, G::terminal_ops);
+  std::mt19937 rng(seed);
+  double worst = 0, worst_f = 0;
+  for (int k = 0; k < points; ++k) {
+    const Point<P> pt(rng);
+    typename Qp::Stage r, g;
+    ocp::linearize_path<HessianKind::gauss_newton>(prob, pt.x, pt.w, pt.p, pt.xn, pt.lam, pt.lg, r);
+    ocp::linearize_path<HessianKind::gauss_newton>(gen, pt.x, pt.w, pt.p, pt.xn, pt.lam, pt.lg, g);
+    const double d[] = {rel_diff(g.A, r.A), rel_diff(g.B, r.B),   rel_diff(g.b, r.b),
+                        rel_diff(g.Q, r.Q), rel_diff(g.S, r.S),   rel_diff(g.R, r.R),
+                        rel_diff(g.q, r.q), rel_diff(g.r, r.r),   rel_diff(g.C, r.C),
+                        rel_diff(g.D, r.D), rel_diff(g.lg, r.lg), rel_diff(g.ug, r.ug)};
+    const char* names[] = {"A", "B", "b", "Q", "S", "R", "q", "r", "C", "D", "lg", "ug"};
+    for (int i = 0; i < 12; ++i) {
+      EXPECT_LE(d[i], tol) << name << " path block " << names[i] << ", point " << k;
+      worst = std::max(worst, d[i]);
+    }
+    if (k == 0) {  // switched off: the expression layer's blocks, bitwise
+      const ocp::WithGeneratedStage<P, Def> off(prob, false);
+      typename Qp::Stage o;
+      ocp::linearize_path<HessianKind::gauss_newton>(off, pt.x, pt.w, pt.p, pt.xn, pt.lam, pt.lg,
+                                                     o);
+      EXPECT_TRUE(o.A == r.A && o.B == r.B && o.Q == r.Q && o.C == r.C && o.ug == r.ug) << name;
+    }
+    typename Qp::Terminal rt, gt;
+    ocp::linearize_terminal<HessianKind::gauss_newton>(prob, pt.x, pt.p, pt.lgn, rt);
+    ocp::linearize_terminal<HessianKind::gauss_newton>(gen, pt.x, pt.p, pt.lgn, gt);
+    const double dt[] = {rel_diff(gt.Q, rt.Q), rel_diff(gt.q, rt.q), rel_diff(gt.C, rt.C),
+                         rel_diff(gt.lg, rt.lg), rel_diff(gt.ug, rt.ug)};
+    for (double v : dt) {
+      EXPECT_LE(v, tol) << name << " terminal, point " << k;
+      worst = std::max(worst, v);
+    }
+    // the generated code at float against the expression layer at double
+    typename Qf::Stage f;
+    const VecN<float, Point<P>::nx> x = pt.x.template cast<float>(),
+                                    xn = pt.xn.template cast<float>(),
+                                    lam = pt.lam.template cast<float>();
+    const VecN<float, Point<P>::nw> w = pt.w.template cast<float>();
+    const VecN<float, Point<P>::np> p = pt.p.template cast<float>();
+    const VecN<float, Point<P>::ng> lg = pt.lg.template cast<float>();
+    G::template path<float>(x.data(), w.data(), p.data(), xn.data(), lam.data(), lg.data(),
+                            f.A.data(), f.B.data(), f.b.data(), f.Q.data(), f.S.data(), f.R.data(),
+                            f.q.data(), f.r.data(), f.C.data(), f.D.data(), f.lg.data(),
+                            f.ug.data());
+    const double df[] = {rel_diff(f.A, r.A), rel_diff(f.B, r.B),   rel_diff(f.b, r.b),
+                         rel_diff(f.Q, r.Q), rel_diff(f.S, r.S),   rel_diff(f.R, r.R),
+                         rel_diff(f.q, r.q), rel_diff(f.r, r.r),   rel_diff(f.C, r.C),
+                         rel_diff(f.D, r.D), rel_diff(f.lg, r.lg), rel_diff(f.ug, r.ug)};
+    for (int i = 0; i < 12; ++i) {
+      EXPECT_LE(df[i], ftol) << name << " float path block " << names[i] << ", point " << k;
+      worst_f = std::max(worst_f, df[i]);
+    }
+  }
+  std::printf("%s: %d points, largest relative difference %.2e (double), %.2e (float code)\n", name,
+              points, worst, worst_f);
+}
+
+TEST(GeneratedStage, ContourFdEqualsTheExpressionLayer) {
+  check_definition<contour::FdStage>("contour OCP-FD", 40, 1, 1e-11, 2e-4);
+}
+
+TEST(GeneratedStage, ContourIdEqualsTheExpressionLayer) {
+  check_definition<contour::IdStage>("contour OCP-ID", 40, 2, 1e-11, 2e-4);
+}
+
+TEST(GeneratedStage, RandomRobotSoftTaskEqualsTheExpressionLayer) {
+  check_definition<ocp_test::RandomSoftStage>("random 3-joint robot, soft tunnel", 100, 3, 1e-11,
+                                              2e-4);
+}
+
+// The controller on generated stages: the same real-time-iteration loop (random 3-joint robot,
+// soft tunnel) with the expression layer and with the generated code, the plant the controller's
+// own model with a perturbation: the same statuses, QP iteration counts and controls to
+// round-off over 30 samples.
+TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
+  using Def = ocp_test::RandomSoftStage;
+  using Task = ocp_test::Task3;
+  static Def::Workspace<double> ws;
+  const auto prob = Def::problem(ws);
+  const auto gprob = ocp::with_generated_stage<Def>(prob);
+  using Ce = nmpc::Nmpc<std::remove_cvref_t<decltype(prob)>>;
+  using Cg = nmpc::Nmpc<std::remove_cvref_t<decltype(gprob)>>;
+  static Ce ce(prob);
+  static Cg cg(gprob);
+  constexpr int nv = Task::nv;
+  VecN<double, Task::nx> x0;
+  x0 << Task::q_start(), VecN<double, nv>::Zero();
+  const VecN<double, nv> u0 = VecN<double, nv>::Zero();
+  ASSERT_EQ(ce.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
+  ASSERT_EQ(cg.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
+  const auto se = ce.solve(x0), sg = cg.solve(x0);
+  EXPECT_EQ(se, sg);
+  EXPECT_LE((ce.control() - cg.control()).cwiseAbs().maxCoeff(),
+            1e-9 * (1 + ce.control().cwiseAbs().maxCoeff()));
+  VecN<double, Task::nx> x = x0;
+  double worst = 0;
+  for (int k = 0; k < 30; ++k) {
+    const VecN<double, nv> u = ce.control();
+    x = ad::evaluate(prob.dynamics, x, u, VecN<double, 1>::Zero().eval());
+    x[0] += 1e-3 * std::sin(0.7 * k);  // a perturbation the model does not predict
+    ce.shift();
+    cg.shift();
+    ASSERT_EQ(ce.prepare(), cg.prepare()) << k;
+    const auto fe = ce.feedback(x), fg = cg.feedback(x);
+    ASSERT_EQ(fe, fg) << k;
+    EXPECT_EQ(ce.info().qp_iterations, cg.info().qp_iterations) << k;
+    const double d = (ce.control() - cg.control()).cwiseAbs().maxCoeff() /
+                     (1 + ce.control().cwiseAbs().maxCoeff());
+    EXPECT_LE(d, 1e-9) << k;
+    worst = std::max(worst, d);
+  }
+  std::printf("RTI loop, 30 samples: largest relative control difference %.2e\n", worst);
+}
+
+}  // namespace
