@@ -75,7 +75,10 @@ int main(int argc, char** argv) {
     std::printf("sample %d qp_iterations %d e_p %.6g s %.6g\n", n - 1, r.qp_iterations, r.e_p,
                 r.x[14]);
   }
-  std::printf("samples %d failed %d step_limited %d max e_p %.3f mm (tunnel %.1f mm) %s\n", n,
-              failed, limited, 1e3 * e_max, 1e3 * contour::rho, CONTOUR_ID ? "OCP-ID" : "OCP-FD");
+  std::printf(
+      "samples %d failed %d step_limited %d max e_p %.3f mm (tunnel %.1f mm) %s, stages: "
+      "%s\n",
+      n, failed, limited, 1e3 * e_max, 1e3 * contour::rho, CONTOUR_ID ? "OCP-ID" : "OCP-FD",
+      loop->generated_stage() ? "generated" : "expression layer");
   return failed != 0;
 }

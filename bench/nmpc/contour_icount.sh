@@ -12,6 +12,8 @@
 # SCENARIO="--mismatch" and/or "--noise SIGMA": the example's plant scenarios (unknown 0.5 kg
 # payload; measurement noise). FROZEN=1: OCP-FD's RK4 with frozen sensitivities
 # (ocp::Sensitivity::frozen; configures the build folder with ARBOR_CONTOUR_FROZEN_SENSITIVITY).
+# GENERATED=1: the Gauss-Newton stages from generated code (ocp/generated_stage.hpp; configures
+# ARBOR_CONTOUR_GENERATED_STAGE).
 #
 # Needs valgrind; about 2 min of compiler time and 1 min of callgrind per formulation.
 set -euo pipefail
@@ -19,12 +21,15 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build-fig2}
 frozen=OFF
 [[ ${FROZEN:-0} == 1 ]] && frozen=ON
+generated=OFF
+[[ ${GENERATED:-0} == 1 ]] && generated=ON
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_BENCH=ON \
-  -DARBOR_CONTOUR_FROZEN_SENSITIVITY=$frozen >/dev/null
+  -DARBOR_CONTOUR_FROZEN_SENSITIVITY=$frozen -DARBOR_CONTOUR_GENERATED_STAGE=$generated \
+  >/dev/null
 cmake --build "$build" -j"${JOBS:-1}" --target arbor_bench_contour_icount arbor_bench_contour_icount_id
 work=$build/contour_icount
 rm -rf "$work" && mkdir -p "$work"
-echo "| formulation | phase (feedback bound ${FEEDBACK_ITER:-none}${SCENARIO:+, $SCENARIO}${FROZEN:+, frozen sensitivities}) | samples | median | p95 | p99 | max | max / median |"
+echo "| formulation | phase (feedback bound ${FEEDBACK_ITER:-none}${SCENARIO:+, $SCENARIO}$([[ $frozen == ON ]] && echo ", frozen sensitivities")$([[ $generated == ON ]] && echo ", generated stages")) | samples | median | p95 | p99 | max | max / median |"
 echo "|---|---|---:|---:|---:|---:|---:|---:|"
 for form in ${FORMS:-fd id}; do
   exe=$build/bench/nmpc/arbor_bench_contour_icount

@@ -12,6 +12,9 @@
 # FEEDBACK_ITER=K: the closed loops' feedback bounded to K QP iterations (issue 38;
 # ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound). FROZEN=1: OCP-FD's
 # RK4 with frozen sensitivities (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike).
+# GENERATED=1: the Gauss-Newton stages from generated code (ARBOR_CONTOUR_GENERATED_STAGE; the
+# host build generates the header the targets compile). TARGETS="cortex-m7" and FORMS="fd" run a
+# subset (defaults: both targets, both formulations).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 out="${1:-$root/bench/nmpc/RESULTS-targets.md}"
@@ -19,16 +22,24 @@ host="${BUILD_DIR:-$root/build-contour-bench}"
 tmp="$(mktemp -d)"
 frozen=OFF
 [[ ${FROZEN:-0} == 1 ]] && frozen=ON
+generated=OFF
+[[ ${GENERATED:-0} == 1 ]] && generated=ON
+forms="${FORMS:-fd id}"
 trap 'rm -rf "$tmp"' EXIT
 
-tests="contour_target_fd_double_test contour_target_id_double_test contour_target_fd_float_test
-  contour_target_id_float_test"
+targets="${TARGETS:-cortex-m7 cortex-m4f}"
+tests=""  # the host's loops in the scalars of the targets (Cortex-M7: double, Cortex-M4F: float)
+for form in $forms; do
+  [[ " $targets " == *" cortex-m7 "* ]] && tests="$tests contour_target_${form}_double_test"
+  [[ " $targets " == *" cortex-m4f "* ]] && tests="$tests contour_target_${form}_float_test"
+done
 echo "== host"
 # -O3 like the targets (hosted tests default to -O1 for compile time: ARBOR_TEST_OPTIMIZATION).
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_TESTS=ON \
   -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_TEST_OPTIMIZATION= \
   -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" \
-  -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" >/dev/null
+  -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" -DARBOR_CONTOUR_GENERATED_STAGE="$generated" \
+  >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$host" -j2 --target $tests
 for t in $tests; do
@@ -36,7 +47,7 @@ for t in $tests; do
   grep "^CONTOUR" "$tmp/host_$t.log" | sed "s/^/host /" >>"$tmp/runs.txt"
 done
 
-for t in cortex-m7 cortex-m4f; do
+for t in $targets; do
   echo "== $t"
   machine=mps2-an500 scalar=double
   [ "$t" = cortex-m4f ] && machine=mps2-an386 scalar=float
@@ -45,13 +56,17 @@ for t in cortex-m7 cortex-m4f; do
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$host" \
     -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON \
     -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" \
-    -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" >/dev/null
-  loop_forms="fd id"  # closed loops run on this target
+    -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" -DARBOR_CONTOUR_GENERATED_STAGE="$generated" \
+    >/dev/null
+  loop_forms="$forms"  # closed loops run on this target
   loops=""
   for form in $loop_forms; do loops="$loops contour_target_${form}_${scalar}_test"; done
   # shellcheck disable=SC2086
-  cmake --build "$b" -j2 --target $loops contour_firmware_fd contour_firmware_id
-  for form in fd id; do
+  firmware=""
+  for form in $forms; do firmware="$firmware contour_firmware_$form"; done
+  # shellcheck disable=SC2086
+  cmake --build "$b" -j2 --target $loops $firmware
+  for form in $forms; do
     if [[ " $loop_forms " == *" $form "* ]]; then
       (cd "$b" && ctest -R "contour_target_${form}_${scalar}_test" --output-on-failure -V) |
         tee "$tmp/$t-$form.log" | grep -E "CONTOUR|Passed|Failed|high water"
@@ -85,6 +100,7 @@ done
   echo "2e-3 on qd, sd: target_test.cpp derives them)."
   echo "Instructions = SysTick ticks x instructions per tick (calibrated on a loop of known length"
   echo "under -icount shift=0); host rows are microseconds of this machine (shared, noisy)."
+  echo "Options: FEEDBACK_ITER=${FEEDBACK_ITER:-0}, FROZEN=${FROZEN:-0}, GENERATED=${GENERATED:-0}."
   echo
   echo "| where | OCP | scalar | phase | median | max | unit |"
   echo "|---|---|---|---|---:|---:|---|"
