@@ -11,6 +11,7 @@
 # ocp::with_generated_stage<Definition>(problem). Native builds only: the program runs at build
 # time (a cross build reads the header from the host build: ARBOR_HOST_BUILD_DIR).
 include_guard(GLOBAL)
+include(${CMAKE_CURRENT_LIST_DIR}/ArborAdgenProgram.cmake)
 
 function(arbor_add_stage_ad target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "" "HEADER;INCLUDE"
@@ -19,36 +20,12 @@ function(arbor_add_stage_ad target)
     message(FATAL_ERROR "arbor_add_stage_ad(${target} HEADER <h> INCLUDE <h> DEFINITIONS <d...> "
                         "[INCLUDE_DIRS <d...>] [LIBS <t...>] [DEFINES <d...>])")
   endif()
-  set(gen_dir ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
   string(REPLACE ";" ", " def_list "${ARG_DEFINITIONS}")
-  set(def_names "")
-  foreach(d IN LISTS ARG_DEFINITIONS)
-    if(def_names)
-      string(APPEND def_names ", ")
-    endif()
-    string(APPEND def_names "\"${d}\"")
-  endforeach()
+  _arbor_adgen_quoted(def_names ${ARG_DEFINITIONS})
   set(stage_include ${ARG_INCLUDE})
   set(src ${CMAKE_CURRENT_BINARY_DIR}/${target}_adgen.cpp)
-  configure_file(${gen_dir}/adgen_stage.cpp.in ${src} @ONLY)
-  add_executable(${target}_adgen EXCLUDE_FROM_ALL ${src})
-  target_include_directories(${target}_adgen PRIVATE ${gen_dir} ${ARG_INCLUDE_DIRS})
-  target_link_libraries(${target}_adgen PRIVATE arbor::arbor ${ARG_LIBS})
-  target_compile_definitions(${target}_adgen PRIVATE ${ARG_DEFINES})
-  target_compile_options(${target}_adgen PRIVATE -O1)
-  set(dir ${CMAKE_CURRENT_BINARY_DIR}/${target}_gen)
-  set(out ${dir}/${ARG_HEADER})
-  add_custom_command(
-    OUTPUT ${out}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${dir}
-    COMMAND ${target}_adgen ${out}
-    DEPENDS ${target}_adgen
-    COMMENT "arbor-adgen: stages of ${ARG_DEFINITIONS} -> ${ARG_HEADER}"
-    VERBATIM)
-  add_custom_target(${target}_generate DEPENDS ${out})
-  add_library(${target} INTERFACE)
-  add_dependencies(${target} ${target}_generate)
-  target_include_directories(${target} INTERFACE $<BUILD_INTERFACE:${dir}> ${ARG_INCLUDE_DIRS})
-  target_link_libraries(${target} INTERFACE ${ARG_LIBS})
-  target_compile_definitions(${target} INTERFACE ${ARG_DEFINES})
+  configure_file(${CMAKE_CURRENT_FUNCTION_LIST_DIR}/adgen_stage.cpp.in ${src} @ONLY)
+  _arbor_adgen_header(${target} SOURCE ${src} HEADER ${ARG_HEADER}
+                      COMMENT "arbor-adgen: stages of ${ARG_DEFINITIONS} -> ${ARG_HEADER}"
+                      INCLUDE_DIRS ${ARG_INCLUDE_DIRS} LIBS ${ARG_LIBS} DEFINES ${ARG_DEFINES})
 endfunction()
