@@ -1,8 +1,10 @@
 // A firmware-sized image with only the contour NMPC of examples/contour (Kinova Gen3, OCP-FD or
 // OCP-ID by CONTOUR_FW_ID, analytical RBD derivatives, hard tunnel) in the scalar
-// CONTOUR_FW_SCALAR: RBD workspace, problem and controller in static storage; main runs one
-// real-time-iteration sample (prepare, then feedback on a state read from volatile memory), to
-// measure flash, static RAM (arm-none-eabi-size) and the stack of that sample (painted stack).
+// CONTOUR_FW_SCALAR (stages from generated code with CONTOUR_GENERATED_STAGE=1; its constants are
+// the definition's, this image's reference is a stand-in: sizes only): RBD workspace, problem and
+// controller in static storage; main runs one real-time-iteration sample (prepare, then feedback
+// on a state read from volatile memory), to measure flash, static RAM (arm-none-eabi-size) and
+// the stack of that sample (painted stack).
 // Nothing else (no plant, no test harness, no printf). Results: bench/nmpc/contour_targets.sh.
 #include <cstdint>
 
@@ -14,8 +16,14 @@ using namespace contour;
 using S = CONTOUR_FW_SCALAR;
 constexpr Formulation kForm = CONTOUR_FW_ID ? Formulation::id : Formulation::fd;
 using W = Workspace<arbor::ad::Analytical, S>;
-using Problem =
+using ExprProblem =
     decltype(make_problem<kForm, arbor::ad::Analytical, false>(std::declval<W&>(), Reference{}));
+#if CONTOUR_GENERATED_STAGE  // the stages from generated code (ARBOR_CONTOUR_GENERATED_STAGE)
+#include "contour_stages_ad.hpp"
+using Problem = arbor::ocp::WithGeneratedStage<ExprProblem, StageDefinition<kForm, false, S>>;
+#else
+using Problem = ExprProblem;
+#endif
 using Controller = arbor::nmpc::Nmpc<Problem, S>;
 
 volatile S g_state[nx];  // the measured state (volatile: nothing is folded away)
@@ -27,7 +35,7 @@ int main() {
   for (int i = 0; i < 9; ++i)
     ref.R0[std::size_t(i)] = (i % 4 == 0) ? 1.0 : 0.0;
   // (the controller keeps its own copy of the problem: built in place, not kept twice)
-  static Controller ctrl(make_problem<kForm, arbor::ad::Analytical, false>(g_ws, ref));
+  static Controller ctrl(Problem(make_problem<kForm, arbor::ad::Analytical, false>(g_ws, ref)));
   Controller::Vx x;
   for (int i = 0; i < nx; ++i)
     x[i] = g_state[i];
