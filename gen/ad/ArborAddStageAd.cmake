@@ -9,7 +9,8 @@
 # scalar (gen/ad), and writes <name.hpp> with GeneratedStage specialisations. Creates the
 # INTERFACE library <target> carrying it (it links LIBS, defines DEFINES). Select the code with
 # ocp::with_generated_stage<Definition>(problem). Native builds only: the program runs at build
-# time (a cross build reads the header from the host build: ARBOR_HOST_BUILD_DIR).
+# time; a cross build must take the header a host build generated (examples/contour/stages does,
+# from ARBOR_HOST_BUILD_DIR).
 include_guard(GLOBAL)
 include(${CMAKE_CURRENT_LIST_DIR}/ArborAdgenProgram.cmake)
 

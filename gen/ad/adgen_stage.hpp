@@ -85,8 +85,10 @@ std::string generate_stage(const std::string& name, StageStats& st) {
     const auto lg = stage_inputs<ng>(g, k);
     typename Qp::Stage s;
     ocp::linearize_path<ocp::HessianKind::gauss_newton>(prob, x, w, p, xn, lam, lg, s);
-    if (!stage_branch_check(g, name, "path"))
+    if (!stage_branch_check(g, name, "path")) {
+      current = nullptr;
       return {};
+    }
     const std::vector<Output> out = {
         {"A", stage_ids(s.A)}, {"B", stage_ids(s.B)},   {"b", stage_ids(s.b)},
         {"Q", stage_ids(s.Q)}, {"Sm", stage_ids(s.S)},  {"R", stage_ids(s.R)},
@@ -102,18 +104,36 @@ std::string generate_stage(const std::string& name, StageStats& st) {
   }
   {
     int k = 0;  // (the terminal's own input nodes, numbered from 0 for its function)
+    const int first = int(g.nodes.size());
     const auto x = stage_inputs<nx>(g, k);
     const auto p = stage_inputs<np>(g, k);
     const auto lg = stage_inputs<ngn>(g, k);
     typename Qp::Terminal t;
     ocp::linearize_terminal<ocp::HessianKind::gauss_newton>(prob, x, p, lg, t);
-    if (!stage_branch_check(g, name, "terminal"))
+    if (!stage_branch_check(g, name, "terminal")) {
+      current = nullptr;
       return {};
+    }
     const std::vector<Output> out = {{"Q", stage_ids(t.Q)},
                                      {"q", stage_ids(t.q)},
                                      {"C", stage_ids(t.C)},
                                      {"lg", stage_ids(t.lg)},
                                      {"ug", stage_ids(t.ug)}};
+    // the emitter maps an input node by its index: the terminal's code must read its own inputs
+    // only, not the path's (which a workspace could carry from one trace to the next)
+    std::vector<int> all;
+    for (const auto& o : out)
+      all.insert(all.end(), o.ids.begin(), o.ids.end());
+    const auto live = live_set(g, all, int(g.nodes.size()));
+    for (int i = 0; i < first; ++i)
+      if (live[std::size_t(i)] && g.nodes[std::size_t(i)].op == Op::input) {
+        std::fprintf(stderr,
+                     "arbor-adgen: the terminal stage of %s reads an input of the path "
+                     "stage (state kept in the workspace): not generated\n",
+                     name.c_str());
+        current = nullptr;
+        return {};
+      }
     st.terminal_ops =
         emit_function(body, g, "terminal", {{"x", nx}, {"p", np}, {"lam_g", ngn}}, out);
   }

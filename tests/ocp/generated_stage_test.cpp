@@ -7,6 +7,7 @@
 // generated code at float against the expression layer at double; and the controller: an RTI
 // loop of Nmpc on the generated stages against the same loop on the expression layer.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -40,6 +41,16 @@ double rel_diff(const A& a, const B& b) {
       s = std::max(s, std::abs(y));
     }
   return d / (1 + s);
+}
+
+/// Every block of two path stages (or terminal stages) bitwise equal.
+template <class St>
+bool same_blocks(const St& a, const St& b) {
+  if constexpr (requires { a.A; })
+    return a.A == b.A && a.B == b.B && a.b == b.b && a.Q == b.Q && a.S == b.S && a.R == b.R &&
+           a.q == b.q && a.r == b.r && a.C == b.C && a.D == b.D && a.lg == b.lg && a.ug == b.ug;
+  else
+    return a.Q == b.Q && a.q == b.q && a.C == b.C && a.lg == b.lg && a.ug == b.ug;
 }
 
 /// A random point of definition Def's stage: states, inputs, slacks, parameters, successor,
@@ -109,12 +120,28 @@ void check_definition(const char* name, int points, unsigned seed, double tol, d
       EXPECT_LE(d[i], tol) << name << " path block " << names[i] << ", point " << k;
       worst = std::max(worst, d[i]);
     }
-    if (k == 0) {  // switched off: the expression layer's blocks, bitwise
+    if (k == 0) {
+      // the overload ran the generated code: its blocks are G::path's, bitwise
+      typename Qp::Stage d;
+      G::template path<double>(pt.x.data(), pt.w.data(), pt.p.data(), pt.xn.data(), pt.lam.data(),
+                               pt.lg.data(), d.A.data(), d.B.data(), d.b.data(), d.Q.data(),
+                               d.S.data(), d.R.data(), d.q.data(), d.r.data(), d.C.data(),
+                               d.D.data(), d.lg.data(), d.ug.data());
+      EXPECT_TRUE(same_blocks(g, d)) << name;
+      // switched off: the expression layer's blocks, bitwise
       const ocp::WithGeneratedStage<P, Def> off(prob, false);
       typename Qp::Stage o;
       ocp::linearize_path<HessianKind::gauss_newton>(off, pt.x, pt.w, pt.p, pt.xn, pt.lam, pt.lg,
                                                      o);
-      EXPECT_TRUE(o.A == r.A && o.B == r.B && o.Q == r.Q && o.C == r.C && o.ug == r.ug) << name;
+      EXPECT_TRUE(same_blocks(o, r)) << name;
+      typename Qp::Terminal to, tr, td, tg;
+      ocp::linearize_terminal<HessianKind::gauss_newton>(off, pt.x, pt.p, pt.lgn, to);
+      ocp::linearize_terminal<HessianKind::gauss_newton>(prob, pt.x, pt.p, pt.lgn, tr);
+      ocp::linearize_terminal<HessianKind::gauss_newton>(gen, pt.x, pt.p, pt.lgn, tg);
+      G::template terminal<double>(pt.x.data(), pt.p.data(), pt.lgn.data(), td.Q.data(),
+                                   td.q.data(), td.C.data(), td.lg.data(), td.ug.data());
+      EXPECT_TRUE(same_blocks(to, tr)) << name;
+      EXPECT_TRUE(same_blocks(tg, td)) << name;
     }
     typename Qp::Terminal rt, gt;
     ocp::linearize_terminal<HessianKind::gauss_newton>(prob, pt.x, pt.p, pt.lgn, rt);
@@ -144,6 +171,16 @@ void check_definition(const char* name, int points, unsigned seed, double tol, d
     for (int i = 0; i < 12; ++i) {
       EXPECT_LE(df[i], ftol) << name << " float path block " << names[i] << ", point " << k;
       worst_f = std::max(worst_f, df[i]);
+    }
+    typename Qf::Terminal ft;
+    const VecN<float, Point<P>::ngn> lgn = pt.lgn.template cast<float>();
+    G::template terminal<float>(x.data(), p.data(), lgn.data(), ft.Q.data(), ft.q.data(),
+                                ft.C.data(), ft.lg.data(), ft.ug.data());
+    const double dft[] = {rel_diff(ft.Q, rt.Q), rel_diff(ft.q, rt.q), rel_diff(ft.C, rt.C),
+                          rel_diff(ft.lg, rt.lg), rel_diff(ft.ug, rt.ug)};
+    for (double v : dft) {
+      EXPECT_LE(v, ftol) << name << " float terminal, point " << k;
+      worst_f = std::max(worst_f, v);
     }
   }
   std::printf("%s: %d points, largest relative difference %.2e (double), %.2e (float code)\n", name,
@@ -188,7 +225,7 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   EXPECT_LE((ce.control() - cg.control()).cwiseAbs().maxCoeff(),
             1e-9 * (1 + ce.control().cwiseAbs().maxCoeff()));
   VecN<double, Task::nx> x = x0;
-  double worst = 0;
+  double worst = 0, worst_qp = 0;
   for (int k = 0; k < 30; ++k) {
     const VecN<double, nv> u = ce.control();
     x = ad::evaluate(prob.dynamics, x, u, VecN<double, 1>::Zero().eval());
@@ -203,8 +240,21 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
                      (1 + ce.control().cwiseAbs().maxCoeff());
     EXPECT_LE(d, 1e-9) << k;
     worst = std::max(worst, d);
+    for (int i = 0; i < Ce::N; ++i) {  // the controllers' QPs: the same to round-off
+      const auto& a = ce.qp().stage[std::size_t(i)];
+      const auto& b = cg.qp().stage[std::size_t(i)];
+      const double db = std::max({rel_diff(b.A, a.A), rel_diff(b.B, a.B), rel_diff(b.Q, a.Q),
+                                  rel_diff(b.R, a.R), rel_diff(b.C, a.C), rel_diff(b.ug, a.ug)});
+      EXPECT_LE(db, 1e-11) << k << " stage " << i;
+      worst_qp = std::max(worst_qp, db);
+    }
   }
-  std::printf("RTI loop, 30 samples: largest relative control difference %.2e\n", worst);
+  // The generated controller ran the generated code: other arithmetic, so its QP blocks differ
+  // from the expression layer's by round-off somewhere over the run (were they bitwise equal
+  // everywhere, the expression layer would have run twice).
+  EXPECT_GT(worst_qp, 0.0);
+  std::printf("RTI loop, 30 samples: largest relative control difference %.2e, QP blocks %.2e\n",
+              worst, worst_qp);
 }
 
 }  // namespace

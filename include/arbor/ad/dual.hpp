@@ -220,6 +220,27 @@ struct Dual {
     return T(a) / b;
   }
 
+  // ---- known zero / known equal (core/math.hpp): value and every derivative --------------------
+  /// a and all its derivatives are known to be zero (a skip of a multiplication by a drops its
+  /// derivatives too, so a zero value alone is not enough).
+  friend constexpr bool known_zero(const Dual& a) {
+    if (!known_zero(a.v))
+      return false;
+    for (int i = 0; i < N; ++i)
+      if (!known_zero(a.d[i]))
+        return false;
+    return true;
+  }
+  /// a and b are known to be equal in value and every derivative.
+  friend constexpr bool known_equal(const Dual& a, const Dual& b) {
+    if (!known_equal(a.v, b.v))
+      return false;
+    for (int i = 0; i < N; ++i)
+      if (!known_equal(a.d[i], b.d[i]))
+        return false;
+    return true;
+  }
+
   // ---- comparisons, on the value ---------------------------------------------------------------
   friend constexpr bool operator==(const Dual& a, const Dual& b) { return a.v == b.v; }
   friend constexpr bool operator<(const Dual& a, const Dual& b) { return a.v < b.v; }

@@ -14,7 +14,7 @@
 //   //                           DEFINITIONS MyStage)  -> GeneratedStage<MyStage>
 //   static MyStage::Workspace<double> ws;
 //   const auto problem = ocp::with_generated_stage<MyStage>(MyStage::problem(ws));
-//   static nmpc::Nmpc<decltype(problem)> ctrl(problem);  // its SCQP stages: the generated code
+//   static nmpc::Nmpc<std::remove_const_t<decltype(problem)>> ctrl(problem);  // generated SCQP
 //
 // WithGeneratedStage<P, Def> is P (its expressions still serve the merit function, the shift,
 // the exact Hessian and every other evaluation); only Gauss-Newton linearisations change. What
@@ -25,8 +25,12 @@
 // Branches: linearize_path skips zero entries and a constraint's Gauss-Newton term at a
 // multiplier <= 0 (known_zero, positive_part in core/math.hpp); the generated code keeps only
 // the structural zeros and computes max(mu, 0) instead: the same values, without the skip.
+// Values: the same as the expression layer's to round-off wherever both are finite; the trace
+// folds x - x, 0 * x and x / x, so where the expression layer meets a NaN or an infinity the
+// generated code may give a finite value (the controller's non-finite check can then differ).
 // Cost: the generated operations (GeneratedStage<Def>::path_ops, terminal_ops); stack: the
-// chunks' shared values (gen/ad's emit_function), no heap, no statics.
+// chunks' shared values (gen/ad's emit_function), no heap, no statics. The blocks are written
+// through data(): the QP's stage types (qp/problem.hpp: fixed-size, column-major Eigen).
 #pragma once
 
 #include <type_traits>
@@ -82,6 +86,10 @@ constexpr void check_generated_problem() {
   static_assert(std::is_same_v<P, DefinedProblem<Def, T>>,
                 "the problem is not the one its definition builds at the controller's scalar "
                 "(another expression, sensitivity or provider than the generated code's)");
+  using G = GeneratedStage<Def>;  // (a stale header, e.g. a host build's read by a cross build)
+  static_assert(G::nx == P::nx && G::nw == P::nu + P::ns && G::np == P::np &&
+                    G::ng == qp_rows(P::ng) && G::ngn == qp_rows(P::ngn),
+                "the generated stage code's sizes are not the problem's: regenerate its header");
 }
 }  // namespace detail
 

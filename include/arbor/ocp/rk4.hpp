@@ -36,6 +36,7 @@
 #include "arbor/ad/expr/scalar.hpp"
 #include "arbor/ad/expr/structure.hpp"
 #include "arbor/ad/expr/values.hpp"
+#include "arbor/core/math.hpp"
 
 namespace arbor::ocp {
 
