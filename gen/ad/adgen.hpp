@@ -470,6 +470,16 @@ inline std::string generated_header_text(const std::string& rule, const std::str
   return t + "\nnamespace " + ns + " {\n\n" + code + "}  // namespace " + ns + "\n";
 }
 
+/// The command line of a header generator program, `[--chunk-ops=N] <header.hpp>`: takes the
+/// option (chunk_ops_setting); false, with the usage, when the header is missing.
+inline bool generator_arguments(int& argc, char**& argv) {
+  take_chunk_ops_option(argc, argv);
+  if (argc >= 2)
+    return true;
+  std::fprintf(stderr, "usage: %s [--chunk-ops=N] <header.hpp>\n", argv[0]);
+  return false;
+}
+
 /// Writes text to the file path; false, with a message, when it cannot.
 inline bool write_text(const char* path, const std::string& text) {
   std::FILE* f = std::fopen(path, "w");

@@ -98,11 +98,8 @@ std::string generate_user_function(const std::string& name, FunctionStats& st) {
 template <ad::UserFunction... F>
 int generate_functions(int argc, char** argv, const std::vector<std::string>& names,
                        const std::string& include) {
-  take_chunk_ops_option(argc, argv);
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s [--chunk-ops=N] <header.hpp>\n", argv[0]);
+  if (!generator_arguments(argc, argv))
     return 2;
-  }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<FunctionStats> stats(sizeof...(F));
   std::string code;
