@@ -215,8 +215,10 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   static Ce ce(prob);
   static Cg cg(gprob);
   constexpr int nv = Task::nv;
-  VecN<double, Task::nx> x0;
-  x0 << Task::q_start(), VecN<double, nv>::Zero();
+  VecN<double, Task::nx> x0 = VecN<double, Task::nx>::Zero();
+  const VecN<double, nv> qs = Task::q_start();
+  for (int i = 0; i < nv; ++i)  // (not a comma initializer: GCC 12's -Warray-bounds misreads
+    x0[i] = qs[i];              // its AVX load of the 3-vector at -O3 -march=native)
   const VecN<double, nv> u0 = VecN<double, nv>::Zero();
   ASSERT_EQ(ce.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
   ASSERT_EQ(cg.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
