@@ -28,6 +28,7 @@ namespace {
 using arbor::qp::Convexity;
 using arbor::qp::DenseQpProblem;
 using arbor::qp::DenseQpSolver;
+using arbor::qp::Finiteness;
 using arbor::qp::OcpQp;
 using arbor::qp::OcpQpSolver;
 using arbor::qp::QpStatus;
@@ -144,6 +145,104 @@ TEST(QpRealtime, AssumedConvexitySkipsOnlyTheConvexityCheck) {
   }
   EXPECT_EQ(d_setup, QpStatus::non_convex);
   EXPECT_EQ(d_assumed, QpStatus::accepted);
+}
+
+// Finiteness::assumed (the caller checked the matrices, as nmpc::Nmpc's linearisation does):
+// a NaN in a stage or terminal matrix is taken on the caller's word, one in a vector or a
+// bound is still found, and the default still finds the matrix's.
+TEST(QpRealtime, AssumedFinitenessSkipsOnlyTheMatrixCheck) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(43);
+  t::random_ocp(qp, rng);
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  QpStatus su, stage_checked, stage_assumed, terminal_checked, terminal_assumed, vector_assumed,
+      bound_assumed;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    qp.stage[2].B(0, 1) = nan;
+    stage_checked = solver.update(Convexity::assumed);
+    stage_assumed = solver.update(Convexity::assumed, Finiteness::assumed);
+    qp.stage[2].B(0, 1) = 0;
+    qp.terminal.Q(1, 1) = nan;
+    terminal_checked = solver.update(Convexity::assumed, Finiteness::checked);
+    terminal_assumed = solver.update(Convexity::assumed, Finiteness::assumed);
+    qp.terminal.Q(1, 1) = 1;
+    qp.stage[4].q(0) = nan;
+    vector_assumed = solver.update(Convexity::assumed, Finiteness::assumed);
+    qp.stage[4].q(0) = 0;
+    qp.stage[1].lg(0) = nan;
+    bound_assumed = solver.update(Convexity::assumed, Finiteness::assumed);
+  }
+  EXPECT_EQ(su, QpStatus::accepted);
+  EXPECT_EQ(stage_checked, QpStatus::non_finite);
+  EXPECT_EQ(stage_assumed, QpStatus::accepted);
+  EXPECT_EQ(terminal_checked, QpStatus::non_finite);
+  EXPECT_EQ(terminal_assumed, QpStatus::accepted);
+  EXPECT_EQ(vector_assumed, QpStatus::non_finite);
+  EXPECT_EQ(bound_assumed, QpStatus::non_finite);
+
+  static DenseQpProblem<double, 2, 1> p;
+  static DenseQpSolver<double, 2, 1> dense;
+  p.H << 1, 0, 0, 1;
+  p.g << 0, 0;
+  p.A << 1, 1;
+  p.lbx << -1, -1;
+  p.ubx << 1, 1;
+  p.lba << -kInf;
+  p.uba << 1;
+  QpStatus d_setup, d_checked, d_assumed, d_vector;
+  {
+    arbor::test::NoAllocScope guard;
+    d_setup = dense.setup(p);
+    p.A(0, 1) = nan;
+    d_checked = dense.update(Convexity::assumed);
+    d_assumed = dense.update(Convexity::assumed, Finiteness::assumed);
+    p.A(0, 1) = 1;
+    p.g(1) = nan;
+    d_vector = dense.update(Convexity::assumed, Finiteness::assumed);
+  }
+  EXPECT_EQ(d_setup, QpStatus::accepted);
+  EXPECT_EQ(d_checked, QpStatus::non_finite);
+  EXPECT_EQ(d_assumed, QpStatus::accepted);
+  EXPECT_EQ(d_vector, QpStatus::non_finite);
+}
+
+// The finiteness check (qp/data_checks.hpp, all_finite: one sum per matrix) is exact: finite
+// entries whose plain sum would overflow are accepted; two infinities of opposite signs, a lone
+// infinity and a NaN are not, in a path stage and in the terminal stage.
+TEST(QpRealtime, FiniteEntriesWhoseSumOverflowsAreAccepted) {
+  static Qp qp;
+  static OcpQpSolver<Qp> solver;
+  std::mt19937 rng(47);
+  t::random_ocp(qp, rng);
+  constexpr double big = 0.9 * std::numeric_limits<double>::max();
+  QpStatus su, overflow, cancel, lone, nan, restored;
+  {
+    arbor::test::NoAllocScope guard;
+    su = solver.setup(qp);
+    qp.stage[1].A(0, 0) = big;
+    qp.stage[1].A(1, 1) = big;  // the sum is +inf, every entry finite
+    qp.stage[1].B(0, 0) = big;
+    overflow = solver.update(Convexity::assumed);
+    qp.stage[1].A(1, 1) = kInf;
+    qp.stage[1].B(0, 0) = -kInf;
+    cancel = solver.update(Convexity::assumed);
+    qp.stage[1].B(0, 0) = 0;
+    lone = solver.update(Convexity::assumed);
+    qp.stage[1].A(1, 1) = 0;
+    qp.terminal.C(0, 0) = std::numeric_limits<double>::quiet_NaN();
+    nan = solver.update(Convexity::assumed);
+    qp.terminal.C(0, 0) = 0;
+    restored = solver.update(Convexity::assumed);
+  }
+  EXPECT_EQ(su, QpStatus::accepted);
+  EXPECT_EQ(overflow, QpStatus::accepted);
+  EXPECT_EQ(cancel, QpStatus::non_finite);
+  EXPECT_EQ(lone, QpStatus::non_finite);
+  EXPECT_EQ(nan, QpStatus::non_finite);
+  EXPECT_EQ(restored, QpStatus::accepted);
 }
 
 TEST(QpRealtime, PerStageViewsMatchTheStackedSolutionAndTheStageKkt) {

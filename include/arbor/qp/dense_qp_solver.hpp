@@ -41,14 +41,17 @@ class DenseQpSolver
     return update(Convexity::checked);
   }
 
-  /// Re-reads the problem given to setup(): checks it (finite, bounds ordered and, unless
-  /// convexity is assumed, H positive semidefinite) and copies g and the bounds. Returns
-  /// accepted, else the problem's status (and solve() returns not_setup until one is accepted).
-  [[nodiscard]] QpStatus update(Convexity convexity = Convexity::checked) {
+  /// Re-reads the problem given to setup(): checks it (finite, H and A unless their finiteness
+  /// is assumed; bounds ordered and, unless convexity is assumed, H positive semidefinite) and
+  /// copies g and the bounds. Returns accepted, else the problem's status (and solve() returns
+  /// not_setup until one is accepted).
+  [[nodiscard]] QpStatus update(Convexity convexity = Convexity::checked,
+                                Finiteness finiteness = Finiteness::checked) {
     const Problem* p = this->be_.p;
     if (p == nullptr)
       return this->conclude(QpStatus::not_setup);
-    if (!detail::all_finite(p->H, p->g, p->A))
+    if (!detail::all_finite(p->g) ||
+        (finiteness == Finiteness::checked && !detail::all_finite(p->H, p->A)))
       return this->conclude(QpStatus::non_finite);
     QpStatus st = detail::check_bounds(p->lbx, p->ubx);
     if (st == QpStatus::accepted)

@@ -78,21 +78,24 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return update(Convexity::checked);
   }
 
-  /// Re-reads every stage of the problem given to setup(): checks it (finite, bounds ordered
-  /// and, unless convexity is assumed, every stage Hessian [Q S'; S R] and Q_N positive
-  /// semidefinite) and copies its vectors. Returns accepted, else the problem's status (and
-  /// solve() returns not_setup until an update is accepted). The iterate is kept.
-  [[nodiscard]] QpStatus update(Convexity convexity = Convexity::checked) {
+  /// Re-reads every stage of the problem given to setup(): checks it (finite unless the
+  /// matrices' finiteness is assumed, bounds ordered and, unless convexity is assumed, every stage
+  /// Hessian [Q S'; S R] and Q_N positive semidefinite) and copies its vectors. Returns accepted,
+  /// else the problem's status (and solve() returns not_setup until an update is accepted). The
+  /// iterate is kept.
+  [[nodiscard]] QpStatus update(Convexity convexity = Convexity::checked,
+                                Finiteness finiteness = Finiteness::checked) {
     const Problem* p = this->be_.p;
     if (p == nullptr)
       return this->conclude(QpStatus::not_setup);
-    const bool check = convexity == Convexity::checked;
+    const bool convex = convexity == Convexity::checked;
+    const bool finite = finiteness == Finiteness::checked;
     for (int k = 0; k < N; ++k) {
-      const QpStatus st = read_stage(k, p->stage[k], check);
+      const QpStatus st = read_stage(k, p->stage[k], convex, finite);
       if (st != QpStatus::accepted)
         return this->conclude(st);
     }
-    return this->conclude(read_terminal(p->terminal, check));
+    return this->conclude(read_terminal(p->terminal, convex, finite));
   }
 
   /// Re-reads only the vectors of every stage (bounds, gradients, dynamics offsets; checked:
@@ -180,8 +183,9 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
 
  private:
   /// Checks path stage k and copies its vectors into the flat arrays.
-  QpStatus read_stage(int k, const typename Problem::Stage& st, bool check_convexity) {
-    if (!detail::all_finite(st.Q, st.S, st.R, st.A, st.B, st.C, st.D))
+  QpStatus read_stage(int k, const typename Problem::Stage& st, bool check_convexity,
+                      bool check_finite) {
+    if (check_finite && !detail::all_finite(st.Q, st.S, st.R, st.A, st.B, st.C, st.D))
       return QpStatus::non_finite;
     if (const QpStatus v = check_vectors(st); v != QpStatus::accepted)
       return v;
@@ -235,8 +239,9 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   }
 
   /// Checks the terminal stage and copies its vectors into the flat arrays.
-  QpStatus read_terminal(const typename Problem::Terminal& t, bool check_convexity) {
-    if (!detail::all_finite(t.Q, t.C))
+  QpStatus read_terminal(const typename Problem::Terminal& t, bool check_convexity,
+                         bool check_finite) {
+    if (check_finite && !detail::all_finite(t.Q, t.C))
       return QpStatus::non_finite;
     if (const QpStatus v = check_terminal_vectors(t); v != QpStatus::accepted)
       return v;

@@ -45,6 +45,25 @@ constexpr const char* to_string(Convexity c) {
   return "unknown";
 }
 
+/// Whether update() checks the stage matrices for non-finite values (the vectors and bounds are
+/// always checked). The check reads every matrix entry once: about 40 k Cortex-M7 instructions
+/// per update of the Kinova contour QP (16 stages), 1.3 % of a real-time sample.
+enum class Finiteness : unsigned char {
+  checked,  ///< verify; a NaN or infinity makes the call return QpStatus::non_finite (default)
+  assumed,  ///< the caller checked the matrices since it last wrote them (e.g. nmpc::Nmpc)
+};
+
+/// Name of a Finiteness value, for logs and test messages.
+constexpr const char* to_string(Finiteness f) {
+  switch (f) {
+    case Finiteness::checked:
+      return "checked";
+    case Finiteness::assumed:
+      return "assumed";
+  }
+  return "unknown";
+}
+
 /// Settings of the active-set solvers.
 template <typename Scalar>
 struct QpSettings;
