@@ -157,6 +157,18 @@ TEST(NmpcBadInput, NonFiniteEvaluation) {
   EXPECT_EQ(ctrl.solve(x0), NmpcStatus::non_finite_evaluation);
   EXPECT_EQ(ctrl.prepare(), NmpcStatus::non_finite_evaluation);
   EXPECT_EQ(ctrl.control()[0], 0.25);
+  // a custom loop that solves the QP after a failed linearisation, the QP set up by an earlier
+  // preparation: the QP reports the NaN (the controller lets its update skip the matrices'
+  // check only after a linearisation that checked them; its factorization would find it too)
+  ASSERT_EQ(ctrl.set_initial_guess(Eigen::Vector2d(0, 0), U1::Constant(0.25)),
+            NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.25)), NmpcStatus::prepared);
+  EXPECT_EQ(ctrl.linearize(), NmpcStatus::non_finite_evaluation);
+  ctrl.embed(x0);
+  EXPECT_EQ(ctrl.solve_qp(), NmpcStatus::qp_failed);
+  EXPECT_EQ(ctrl.info().qp_status, QpStatus::non_finite);
+  EXPECT_EQ(ctrl.control()[0], 0.25);
 }
 
 // ---- convergence --------------------------------------------------------------------------------

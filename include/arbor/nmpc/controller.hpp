@@ -367,6 +367,8 @@ class Nmpc {
   [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
     vectors_only_ = false;  // new matrices: the QP reads everything again
+    // (checked here, once: the QP's update then assumes them finite)
+    matrices_checked_ = false;
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
@@ -392,6 +394,7 @@ class Nmpc {
       return NmpcStatus::non_finite_evaluation;
     t.lbx = lbx_[N] - x_[N];
     t.ubx = ubx_[N] - x_[N];
+    matrices_checked_ = true;
     return NmpcStatus::prepared;
   }
 
@@ -553,7 +556,9 @@ class Nmpc {
       applied_qp_ = settings_.qp;
       qp_setup_ = st == qp::QpStatus::accepted;
     } else {
-      st = solver_.update(qp::Convexity::assumed);
+      // (the matrices as linearize_as() checked them, unless it stopped at a non-finite one)
+      st = solver_.update(qp::Convexity::assumed,
+                          matrices_checked_ ? qp::Finiteness::assumed : qp::Finiteness::checked);
     }
     return st;
   }
@@ -597,13 +602,13 @@ class Nmpc {
     const bool usable = st == qp::QpStatus::solved || limited_ ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
                          solver_.info().merit <= settings_.accept_stalled_qp);
-    if (!usable || !solver_.x().allFinite() || !lam_bounds().allFinite() ||
-        !lam_rows().allFinite()) {
+    // (qp::detail::all_finite: one add per entry where Eigen's allFinite() takes several)
+    if (!usable || !qp::detail::all_finite(solver_.x(), lam_bounds(), lam_rows())) {
       // The multipliers are the solver's iterate (one copy, no backup): keep its best iterate
       // (iteration limit, stall) as the next warm start, reset anything else (an infeasibility
       // or unboundedness certificate, non-finite values).
       if (st == qp::QpStatus::infeasible || st == qp::QpStatus::unbounded ||
-          !lam_bounds().allFinite() || !lam_rows().allFinite()) {
+          !qp::detail::all_finite(lam_bounds(), lam_rows())) {
         lam_bounds().setZero();
         lam_rows().setZero();
       }
@@ -705,13 +710,14 @@ class Nmpc {
   std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
   int merit_count_ = 0;                   ///< accepted points in the merit history
   Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
-  StopLaw stop_law_ = nullptr;  ///< the fallback's stop law (set_stop_law)
-  void* stop_user_ = nullptr;   ///< its user pointer
-  int failed_samples_ = 0;      ///< consecutive calls whose QP failed
-  int qp_cap_ = 0;              ///< feedback(): the bound on the QP's iterations (0: none)
-  bool limited_ = false;        ///< the last QP stopped at that bound
-  bool vectors_only_ = false;   ///< prepare() set up and prefactorized the QP: read its vectors
-  ColdStart* ipm_ = nullptr;    ///< the QP's interior-point cold start (caller's; nullptr: off)
+  StopLaw stop_law_ = nullptr;     ///< the fallback's stop law (set_stop_law)
+  void* stop_user_ = nullptr;      ///< its user pointer
+  int failed_samples_ = 0;         ///< consecutive calls whose QP failed
+  int qp_cap_ = 0;                 ///< feedback(): the bound on the QP's iterations (0: none)
+  bool limited_ = false;           ///< the last QP stopped at that bound
+  bool vectors_only_ = false;      ///< prepare() set up and prefactorized the QP: read its vectors
+  bool matrices_checked_ = false;  ///< linearize_as() found every QP matrix finite
+  ColdStart* ipm_ = nullptr;       ///< the QP's interior-point cold start (caller's; nullptr: off)
 };
 
 }  // namespace arbor::nmpc
