@@ -1,7 +1,7 @@
 # The pendulum's real-time-iteration closed loop (double and float) on every target: host,
 # AArch64, Cortex-M7 (double only) and Cortex-M4F (float only: each FPU's precision). No files, no
 # reference solver: the plant is plain RK4 code in the test.
-arbor_add_test(nmpc_portable_test SOURCES portable_test.cpp LABELS nmpc PORTABLE)
+arbor_add_test(nmpc_portable_test SOURCES portable_test.cpp LABELS nmpc PORTABLE UNOPTIMIZED)
 target_compile_definitions(nmpc_portable_test PRIVATE ARBOR_TEST_DOUBLE=${arbor_test_double}
                                                       ARBOR_TEST_FLOAT=${arbor_test_float})
 # The size matrix's float part (random_matrix_test.cpp, ARBOR_MATRIX_PART 2: a random 7-DoF robot,
@@ -16,7 +16,7 @@ if(ARBOR_TARGET STREQUAL "cortex-m7")
   return()
 endif()
 arbor_add_isa_tests(nmpc_random_matrix2 SOURCES random_matrix_test.cpp LABELS nmpc VARIANTS none
-                    PORTABLE)
+                    PORTABLE UNOPTIMIZED)
 target_include_directories(nmpc_random_matrix2_test PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/../dynamics)
 target_compile_definitions(nmpc_random_matrix2_test PRIVATE ARBOR_MATRIX_PART=2)
 if(CMAKE_CROSSCOMPILING)
