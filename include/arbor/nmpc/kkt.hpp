@@ -10,7 +10,6 @@
 
 #include <Eigen/Core>
 #include <cmath>
-#include <limits>
 
 #include "arbor/qp/problem.hpp"
 #include "arbor/spatial/fwd.hpp"
@@ -26,23 +25,24 @@ struct KktResiduals {
 };
 
 namespace detail {
-template <class T>
-T positive(T v) {
-  return v > T(0) ? v : T(0);
-}
 /// Violation and complementarity of bounds lb <= 0 <= ub (delta form) with multipliers lam.
+/// Plain comparisons, no libm calls: a multiplier times an infinite gap is infinite (the
+/// multiplier of an absent bound); the bounds are not NaN (the controller's linearisation
+/// checks them).
 template <class T, class L, class U, class M>
 void bound_residuals(const L& lb, const U& ub, const M& lam, KktResiduals<T>& r) {
+  T primal = r.primal, comp = r.complementarity;
   for (int i = 0; i < lb.size(); ++i) {
-    r.primal = std::fmax(r.primal, std::fmax(positive(lb[i]), positive(-ub[i])));
-    if (lb[i] == ub[i])
-      continue;                                    // an equality: no complementarity
-    const T gap = lam[i] > T(0) ? ub[i] : -lb[i];  // distance to the bound lam's sign names
-    if (lam[i] != T(0) && std::isfinite(gap))
-      r.complementarity = std::fmax(r.complementarity, std::fabs(lam[i] * gap));
-    else if (lam[i] != T(0))
-      r.complementarity = std::numeric_limits<T>::infinity();  // multiplier of an absent bound
+    const T l = lb[i], u = ub[i], m = lam[i];
+    primal = l > primal ? l : primal;  // (primal >= 0: max(0, lb, -ub))
+    primal = -u > primal ? -u : primal;
+    if (m == T(0) || l == u)
+      continue;                                     // inactive, or an equality: no complementarity
+    const T c = std::fabs(m * (m > T(0) ? u : l));  // |lam * distance to the bound it names|
+    comp = c > comp ? c : comp;
   }
+  r.primal = primal;
+  r.complementarity = comp;
 }
 }  // namespace detail
 
