@@ -173,7 +173,12 @@ class Nmpc {
   /// active set starts cold, as without it. nullptr (the default): the active set starts cold
   /// alone. ws is the caller's (~127 KB at the Kinova size in double); settings().cold_start
   /// holds its settings.
-  void set_cold_start_workspace(ColdStart* ws) { ipm_ = ws; }
+  /// (The interior point's code is instantiated here, through cold_start_: a program that never
+  /// calls this compiles and links none of it: ~6 s of compiler time per controller type at -O1.)
+  void set_cold_start_workspace(ColdStart* ws) {
+    ipm_ = ws;
+    cold_start_ = ws != nullptr ? &Nmpc::run_cold_start : nullptr;
+  }
   /// The stop law of the fallback (nullptr: none) and its user pointer.
   void set_stop_law(StopLaw law, void* user = nullptr) {
     stop_law_ = law;
@@ -575,18 +580,25 @@ class Nmpc {
     const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
     solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
     solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
-    if (ipm_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
+    if (cold_start_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
         (lam_rows().array() == Scalar(0)).all()) {
       // a cold start: the interior point, then the active set from its crossover point
-      const qp::IpmStatus is = ipm_->solve(qp_, settings_.cold_start);
-      info_.qp_ipm_iterations += ipm_->info().iterations;
-      if (qp::crossover_point(is)) {
-        ipm_->warm_start(solver_);
+      if (cold_start_(*this))
         return solver_.solve();
-      }
     }
     solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
+  }
+
+  /// The interior point on the QP from x = 0 and, when it ends at a crossover point, the active
+  /// set's warm start from there; true when the active set should start from it.
+  static bool run_cold_start(Nmpc& c) {
+    const qp::IpmStatus is = c.ipm_->solve(c.qp_, c.settings_.cold_start);
+    c.info_.qp_ipm_iterations += c.ipm_->info().iterations;
+    if (!qp::crossover_point(is))
+      return false;
+    c.ipm_->warm_start(c.solver_);
+    return true;
   }
 
   /// Records a QP solve; step_taken when it gave a finite solution, else qp_failed.
@@ -718,6 +730,7 @@ class Nmpc {
   bool vectors_only_ = false;      ///< prepare() set up and prefactorized the QP: read its vectors
   bool matrices_checked_ = false;  ///< linearize_as() found every QP matrix finite
   ColdStart* ipm_ = nullptr;       ///< the QP's interior-point cold start (caller's; nullptr: off)
+  bool (*cold_start_)(Nmpc&) = nullptr;  ///< run_cold_start when ipm_ is set
 };
 
 }  // namespace arbor::nmpc
