@@ -77,6 +77,18 @@ void random_multipliers(std::mt19937& rng, Vec& lam) {
     lam[i] = std::uniform_int_distribution<int>(0, 2)(rng) == 0 ? 0.0 : u(rng);
 }
 
+/// Fills every matrix and vector of qp with fill(m) and every bound pair with bounds(lb, ub).
+template <class Qp, class Fill, class Bounds>
+void fill_qp(Qp& qp, const Fill& fill, const Bounds& bounds) {
+  for (auto& s : qp.stage) {
+    fill(s.Q), fill(s.S), fill(s.R), fill(s.q), fill(s.r), fill(s.A), fill(s.B), fill(s.b);
+    fill(s.C), fill(s.D);
+    bounds(s.lbx, s.ubx), bounds(s.lbu, s.ubu), bounds(s.lg, s.ug);
+  }
+  fill(qp.terminal.Q), fill(qp.terminal.q), fill(qp.terminal.C);
+  bounds(qp.terminal.lbx, qp.terminal.ubx), bounds(qp.terminal.lg, qp.terminal.ug);
+}
+
 template <class T, int N, int NX, int NU, int NG, int NGN>
 void check(unsigned seed) {
   using Qp = arbor::qp::OcpQp<T, N, NX, NU, NG, NGN>;
@@ -93,13 +105,7 @@ void check(unsigned seed) {
     for (int i = 0; i < lb.size(); ++i)
       random_bounds(rng, lb[i], ub[i]);
   };
-  for (auto& s : qp.stage) {
-    fill(s.Q), fill(s.S), fill(s.R), fill(s.q), fill(s.r), fill(s.A), fill(s.B), fill(s.b);
-    fill(s.C), fill(s.D);
-    bounds(s.lbx, s.ubx), bounds(s.lbu, s.ubu), bounds(s.lg, s.ug);
-  }
-  fill(qp.terminal.Q), fill(qp.terminal.q), fill(qp.terminal.C);
-  bounds(qp.terminal.lbx, qp.terminal.ubx), bounds(qp.terminal.lg, qp.terminal.ug);
+  fill_qp(qp, fill, bounds);
   Eigen::Matrix<T, Qp::nv, 1> lx;
   Eigen::Matrix<T, Qp::na, 1> la;
   random_multipliers(rng, lx);
@@ -146,13 +152,7 @@ TEST(NmpcKkt, FiniteComplementarityMatches) {
     for (int i = 0; i < lb.size(); ++i)
       lb[i] = u(rng) - 1.5, ub[i] = u(rng) + 1.5;
   };
-  for (auto& s : qp.stage) {
-    fill(s.Q), fill(s.S), fill(s.R), fill(s.q), fill(s.r), fill(s.A), fill(s.B), fill(s.b);
-    fill(s.C), fill(s.D);
-    bounds(s.lbx, s.ubx), bounds(s.lbu, s.ubu), bounds(s.lg, s.ug);
-  }
-  fill(qp.terminal.Q), fill(qp.terminal.q), fill(qp.terminal.C);
-  bounds(qp.terminal.lbx, qp.terminal.ubx), bounds(qp.terminal.lg, qp.terminal.ug);
+  fill_qp(qp, fill, bounds);
   qp.stage[1].lbx[0] = 0.25;  // violated: primal residual 0.25
   Eigen::Matrix<double, Qp::nv, 1> lx;
   Eigen::Matrix<double, Qp::na, 1> la;
