@@ -166,5 +166,10 @@ TEST(NmpcKkt, FiniteComplementarityMatches) {
   EXPECT_GE(ref.primal, 0.25);
   EXPECT_NEAR(r.primal, ref.primal, 1e-15);
   EXPECT_NEAR(r.stationarity, ref.stationarity, 1e-13 * (1 + ref.stationarity));
+  // a NaN variable bound (the user's bounds are not checked before the residuals are recorded)
+  // under a nonzero multiplier: infinite complementarity, as for an absent bound
+  qp.stage[0].ubx[0] = std::numeric_limits<double>::quiet_NaN();
+  lx[0] = 1.0;
+  EXPECT_TRUE(std::isinf(arbor::nmpc::kkt_residuals(qp, lx, la).complementarity));
 }
 }  // namespace

@@ -614,7 +614,7 @@ class Nmpc {
     const bool usable = st == qp::QpStatus::solved || limited_ ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
                          solver_.info().merit <= settings_.accept_stalled_qp);
-    // (qp::detail::all_finite: one add per entry where Eigen's allFinite() takes several)
+    // (qp::detail::all_finite: one multiply-add per entry where Eigen's allFinite() takes several)
     if (!usable || !qp::detail::all_finite(solver_.x(), lam_bounds(), lam_rows())) {
       // The multipliers are the solver's iterate (one copy, no backup): keep its best iterate
       // (iteration limit, stall) as the next warm start, reset anything else (an infeasibility

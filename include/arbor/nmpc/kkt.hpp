@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <limits>
 
 #include "arbor/qp/problem.hpp"
 #include "arbor/spatial/fwd.hpp"
@@ -27,8 +28,8 @@ struct KktResiduals {
 namespace detail {
 /// Violation and complementarity of bounds lb <= 0 <= ub (delta form) with multipliers lam.
 /// Plain comparisons, no libm calls: a multiplier times an infinite gap is infinite (the
-/// multiplier of an absent bound); the bounds are not NaN (the controller's linearisation
-/// checks them).
+/// multiplier of an absent bound), and so is one on a NaN bound (the user's variable bounds are
+/// not checked before the residuals are recorded).
 template <class T, class L, class U, class M>
 void bound_residuals(const L& lb, const U& ub, const M& lam, KktResiduals<T>& r) {
   T primal = r.primal, comp = r.complementarity;
@@ -39,7 +40,8 @@ void bound_residuals(const L& lb, const U& ub, const M& lam, KktResiduals<T>& r)
     if (m == T(0) || l == u)
       continue;                                     // inactive, or an equality: no complementarity
     const T c = std::fabs(m * (m > T(0) ? u : l));  // |lam * distance to the bound it names|
-    comp = c > comp ? c : comp;
+    if (!(c <= comp))
+      comp = c == c ? c : std::numeric_limits<T>::infinity();
   }
   r.primal = primal;
   r.complementarity = comp;
