@@ -53,17 +53,6 @@ enum class Finiteness : unsigned char {
   assumed,  ///< the caller checked the matrices since it last wrote them (e.g. nmpc::Nmpc)
 };
 
-/// Name of a Finiteness value, for logs and test messages.
-constexpr const char* to_string(Finiteness f) {
-  switch (f) {
-    case Finiteness::checked:
-      return "checked";
-    case Finiteness::assumed:
-      return "assumed";
-  }
-  return "unknown";
-}
-
 /// Settings of the active-set solvers.
 template <typename Scalar>
 struct QpSettings;
