@@ -243,6 +243,8 @@ class Sym {
   friend Sym cos(const Sym& a) { return node(current->make(Op::cos, a.id_)); }
   /// max(a, 0) as an operation (arbor::positive_part's customisation: no value branch).
   friend Sym positive_part(const Sym& a) { return node(current->make(Op::pos, a.id_)); }
+  /// a > 0 ? 1 : 0 as an operation (arbor::unit_step's customisation).
+  friend Sym unit_step(const Sym& a) { return node(current->make(Op::step, a.id_)); }
   /// a is the constant zero (arbor::known_zero's customisation: structure, not value).
   friend bool known_zero(const Sym& a) { return current->is_c(a.id_, 0.0); }
   /// a and b are one node (arbor::known_equal's customisation: structure, not value).
@@ -512,6 +514,22 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
     all.insert(all.end(), o.ids.begin(), o.ids.end());
   const int n = int(g.nodes.size());
   const auto live = live_set(g, all, n);
+  // sin and cos of one argument: emitted as one sincos call at the first of the two (the scalar
+  // computes both at once: one reduction of the argument; SIMD packs in one batch)
+  std::vector<int> partner(n, -1);
+  {
+    std::unordered_map<int, int> sin_of, cos_of;  // argument -> live node
+    for (int i = 0; i < n; ++i)
+      if (live[i] && (g.nodes[i].op == Op::sin || g.nodes[i].op == Op::cos))
+        (g.nodes[i].op == Op::sin ? sin_of : cos_of)[g.nodes[i].a] = i;
+    for (const auto& [a, si] : sin_of) {
+      auto it = cos_of.find(a);
+      if (it != cos_of.end()) {
+        partner[si] = it->second;
+        partner[it->second] = si;
+      }
+    }
+  }
   char buf[160];
   auto constant = [&](int i) -> std::string {
     // shortest text that reads back as the same double
@@ -546,9 +564,9 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
     if (nd.op == Op::neg)
       return "-" + ref(nd.a);
     if (nd.op == Op::pos)
-      return "(" + ref(nd.a) + " > S(0) ? " + ref(nd.a) + " : S(0))";
+      return "positive_part(" + ref(nd.a) + ")";
     if (nd.op == Op::step)
-      return "(" + ref(nd.a) + " > S(0) ? S(1) : S(0))";
+      return "unit_step(" + ref(nd.a) + ")";
     return std::string(nd.op == Op::sqrt  ? "sqrt("
                        : nd.op == Op::sin ? "sin("
                                           : "cos(") +
@@ -560,7 +578,8 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
       ops_order.push_back(i);
   const long ops = long(ops_order.size());
   const std::string usings =
-      "    using arbor::sin;\n    using arbor::cos;\n    using arbor::sqrt;\n";
+      "    using arbor::sin;\n    using arbor::cos;\n    using arbor::sqrt;\n"
+      "    using arbor::sincos;\n    using arbor::positive_part;\n    using arbor::unit_step;\n";
   auto params = [&](bool with_w) {
     std::string p;
     bool first = true;
@@ -586,10 +605,18 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
     };
     std::string body;
     for (int i = 0; i < n; ++i) {
-      if (!live[i] || g.nodes[i].op == Op::constant)
-        continue;
+      if (!live[i] || g.nodes[i].op == Op::constant || local[i] >= 0)
+        continue;  // (a sincos pair's second: declared with the first)
       const Node& nd = g.nodes[i];
       local[i] = next++;
+      if (const int j = partner[i]; j > i) {
+        local[j] = next++;
+        const int s_id = nd.op == Op::sin ? i : j, c_id = nd.op == Op::sin ? j : i;
+        body += "    S t" + std::to_string(local[s_id]) + ", t" + std::to_string(local[c_id]) +
+                ";\n    sincos(" + ref(nd.a) + ", t" + std::to_string(local[s_id]) + ", t" +
+                std::to_string(local[c_id]) + ");\n";
+        continue;
+      }
       const std::string rhs = nd.op == Op::input ? input(i) : rhs_of(nd, ref);
       body += "    const S t" + std::to_string(local[i]) + " = " + rhs + ";\n";
     }
@@ -666,7 +693,18 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
     for (std::size_t p = p0; p < p1; ++p) {
       const int i = ops_order[p];
       const std::string t = "t" + std::to_string(i);
-      body += "    const S " + t + " = " + rhs_of(g.nodes[i], ref) + ";\n";
+      const int j = partner[i];
+      const Node& nd = g.nodes[i];
+      if (j >= 0 && chunk_of[j] == c) {  // a sincos pair within this chunk: one call at the first
+        if (j > i) {
+          const int s_id = nd.op == Op::sin ? i : j, c_id = nd.op == Op::sin ? j : i;
+          body += "    S t" + std::to_string(s_id) + ", t" + std::to_string(c_id) +
+                  ";\n    sincos(" + ref(nd.a) + ", t" + std::to_string(s_id) + ", t" +
+                  std::to_string(c_id) + ");\n";
+        }
+      } else {
+        body += "    const S " + t + " = " + rhs_of(nd, ref) + ";\n";
+      }
       if (slot[i] >= 0)
         body += "    w[" + std::to_string(slot[i]) + "] = " + t + ";\n";
       auto it = writes.find(i);

@@ -51,7 +51,7 @@ constexpr double inv_factorial(int n) {
 /// and std::cos.
 /// sincos_double's general path for 2^-26 <= |x| <= 1e5, without branches (the quadrant's
 /// permutation and signs as selects), so that a loop over it runs across SIMD lanes
-/// (dynamics/sincos_batch.hpp).
+/// (core/sincos_batch.hpp).
 ARBOR_INLINE void sincos_reduced(double x, double& s, double& c) {
   constexpr double two_over_pi = 0x1.45f306dc9c883p-1;
   constexpr double pi2_1 = 0x1.921fb54400000p+0;   // pi/2, first 33 bits
@@ -169,6 +169,13 @@ constexpr bool known_equal(const T& a, const T& b) {
 template <class T>
 constexpr T positive_part(const T& x) {
   return x > T(0) ? x : T(0);
+}
+
+/// 1 if x > 0, else 0 (positive_part's derivative). A tracing or SIMD scalar overloads
+/// `unit_step` in its namespace, as positive_part.
+template <class T>
+constexpr T unit_step(const T& x) {
+  return x > T(0) ? T(1) : T(0);
 }
 
 }  // namespace arbor

@@ -2,10 +2,10 @@
 // placements/velocities, unrolled over the tree.
 #pragma once
 
+#include "arbor/core/sincos_batch.hpp"
 #include "arbor/core/static_for.hpp"
 #include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
-#include "arbor/dynamics/sincos_batch.hpp"
 #include "arbor/spatial/body_ops.hpp"
 #include "arbor/spatial/constant.hpp"
 

@@ -29,6 +29,7 @@
 #include "arbor/ad/expr/leaves.hpp"
 #include "arbor/ad/expr/reductions.hpp"
 #include "arbor/ad/expr/values.hpp"
+#include "arbor/core/pack.hpp"
 
 namespace arbor::ad::detail {
 
@@ -231,13 +232,7 @@ template <class S, int K, int L>
 using Compressed = typename CompressedScalar<S, K, L>::type;
 
 /// Bytes of the widest SIMD register the compiler may use for dual arithmetic (0: none).
-#if defined(__AVX__)
-inline constexpr int simd_bytes = 32;
-#elif defined(__SSE2__) || defined(__ARM_NEON)
-inline constexpr int simd_bytes = 16;
-#else
-inline constexpr int simd_bytes = 0;
-#endif
+inline constexpr int simd_bytes = arbor::simd_bytes;
 
 /// The number of directions of a compressed dual keeping K of N directions of base scalar B:
 /// K rounded up to whole SIMD registers (a dual whose directions fill whole registers is

@@ -1,4 +1,4 @@
-// detail::sincos_double_batch (dynamics/sincos_batch.hpp: the joints' sines and cosines in one
+// detail::sincos_double_batch (core/sincos_batch.hpp: the joints' sines and cosines in one
 // branch-free loop over SIMD lanes) against detail::sincos_double (core/math.hpp, itself tested
 // against glibc in tests/core/math_test.cpp), bit for bit: random arguments over the joints'
 // range and beyond, arguments next to multiples of pi/2, and the arguments the batch hands back to
@@ -6,7 +6,7 @@
 // mixed into batches of ordinary ones, for batch sizes 1 to 9.
 #include <gtest/gtest.h>
 
-#include <arbor/dynamics/sincos_batch.hpp>
+#include <arbor/core/sincos_batch.hpp>
 #include <bit>
 #include <cmath>
 #include <cstdint>
