@@ -200,10 +200,87 @@ TEST(GeneratedStage, RandomRobotSoftTaskEqualsTheExpressionLayer) {
                                               2e-4);
 }
 
+/// ocp::linearize_paths (the generated path code at Pack<T, L>, L stages at once) against L calls
+/// of the scalar generated code through linearize_path: every block of every lane within tol
+/// (bitwise unless the compiler contracts a * b + c differently in vector code), each lane at
+/// its own random point, in `groups` groups; switched off (batched = false) it returns false
+/// and writes nothing.
+template <class Def, class T, int L>
+void check_batched(const char* name, int groups, unsigned seed, double tol) {
+  static typename Def::template Workspace<T> ws;  // (large: static storage)
+  const auto prob = Def::problem(ws);
+  using P = std::remove_cvref_t<decltype(prob)>;
+  using Qp = ocp::QpOf<P, T>;
+  auto gen = ocp::with_generated_stage<Def>(prob);
+  constexpr int nx = P::nx, nw = P::nu + P::ns, np = P::np, ng = ocp::qp_rows(P::ng);
+  std::mt19937 rng(seed);
+  double worst = 0;
+  for (int g = 0; g < groups; ++g) {
+    struct Lane {
+      VecN<T, nx> x, xn, lam;
+      VecN<T, nw> w;
+      VecN<T, np> p;
+      VecN<T, ng> lg;
+    } in[L];
+    ocp::PathPoint<T> pt[L];
+    typename Qp::Stage ref[L], bat[L];
+    typename Qp::Stage* st[L];
+    for (int l = 0; l < L; ++l) {
+      const Point<P> pd(rng);
+      in[l] = {pd.x.template cast<T>(), pd.xn.template cast<T>(), pd.lam.template cast<T>(),
+               pd.w.template cast<T>(), pd.p.template cast<T>(),  pd.lg.template cast<T>()};
+      pt[l] = {in[l].x.data(),  in[l].w.data(),   in[l].p.data(),
+               in[l].xn.data(), in[l].lam.data(), in[l].lg.data()};
+      st[l] = &bat[l];
+      ocp::linearize_path<HessianKind::gauss_newton>(gen, in[l].x, in[l].w, in[l].p, in[l].xn,
+                                                     in[l].lam, in[l].lg, ref[l]);
+    }
+    ASSERT_TRUE(ocp::linearize_paths<L>(gen, pt, st)) << name;
+    for (int l = 0; l < L; ++l) {
+      const auto &a = bat[l], &r = ref[l];
+      const double d = std::max({rel_diff(a.A, r.A), rel_diff(a.B, r.B), rel_diff(a.b, r.b),
+                                 rel_diff(a.Q, r.Q), rel_diff(a.S, r.S), rel_diff(a.R, r.R),
+                                 rel_diff(a.q, r.q), rel_diff(a.r, r.r), rel_diff(a.C, r.C),
+                                 rel_diff(a.D, r.D), rel_diff(a.lg, r.lg), rel_diff(a.ug, r.ug)});
+      EXPECT_LE(d, tol) << name << ", group " << g << ", lane " << l << " of " << L;
+      worst = std::max(worst, d);
+    }
+  }
+  gen.batched = false;  // off: nothing written
+  ocp::PathPoint<T> pt[L];
+  typename Qp::Stage off[L];
+  typename Qp::Stage* st[L];
+  const VecN<T, nx> x = VecN<T, nx>::Zero();
+  const VecN<T, nw> w = VecN<T, nw>::Zero();
+  const VecN<T, np> p = VecN<T, np>::Zero();
+  const VecN<T, ng> lg = VecN<T, ng>::Zero();
+  for (int l = 0; l < L; ++l) {
+    pt[l] = {x.data(), w.data(), p.data(), x.data(), x.data(), lg.data()};
+    off[l].A.setConstant(T(7));
+    st[l] = &off[l];
+  }
+  EXPECT_FALSE(ocp::linearize_paths<L>(gen, pt, st)) << name;
+  for (int l = 0; l < L; ++l)
+    EXPECT_TRUE((off[l].A.array() == T(7)).all()) << name;
+  std::printf(
+      "%s, %d lanes of %s: %d groups, largest relative difference to the scalar code %.2e\n", name,
+      L, sizeof(T) == 8 ? "double" : "float", groups, worst);
+}
+
+TEST(GeneratedStage, BatchedPathsEqualTheScalarCode) {
+  check_batched<contour::FdStage, double, 4>("contour OCP-FD", 5, 11, 1e-12);
+  check_batched<contour::FdStage, float, 8>("contour OCP-FD", 3, 12, 1e-5);
+  check_batched<contour::IdStage, double, 2>("contour OCP-ID", 10, 13, 1e-12);
+  check_batched<ocp_test::RandomSoftStage, double, 4>("random 3-joint robot", 10, 14, 1e-12);
+}
+
 // The controller on generated stages: the same real-time-iteration loop (random 3-joint robot,
 // soft tunnel) with the expression layer and with the generated code, the plant the controller's
 // own model with a perturbation: the same statuses, QP iteration counts and controls to
-// round-off over 30 samples.
+// round-off over 30 samples. On a SIMD host the generated controller linearises its N = 7 path
+// stages ocp::path_lanes at a time and the rest one by one (2 lanes: 3 groups and 1; 4 lanes: 1
+// and 3); a third controller of the same type with batched = false runs every stage one by one:
+// the same statuses and iterations, its QP blocks the batched one's to round-off.
 TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   using Def = ocp_test::RandomSoftStage;
   using Task = ocp_test::Task3;
@@ -214,6 +291,11 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   using Cg = nmpc::Nmpc<std::remove_cvref_t<decltype(gprob)>>;
   static Ce ce(prob);
   static Cg cg(gprob);
+  auto sprob = gprob;
+  sprob.batched = false;
+  static Cg cs(sprob);
+  constexpr int lanes = ocp::path_lanes<std::remove_cvref_t<decltype(gprob)>, double>;
+  static_assert(lanes == (arbor::simd_bytes > 0 ? arbor::simd_bytes / 8 : 0));
   constexpr int nv = Task::nv;
   VecN<double, Task::nx> x0 = VecN<double, Task::nx>::Zero();
   const VecN<double, nv> qs = Task::q_start();
@@ -222,22 +304,28 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   const VecN<double, nv> u0 = VecN<double, nv>::Zero();
   ASSERT_EQ(ce.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
   ASSERT_EQ(cg.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
+  ASSERT_EQ(cs.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
   const auto se = ce.solve(x0), sg = cg.solve(x0);
   EXPECT_EQ(se, sg);
+  EXPECT_EQ(cs.solve(x0), sg);
   EXPECT_LE((ce.control() - cg.control()).cwiseAbs().maxCoeff(),
             1e-9 * (1 + ce.control().cwiseAbs().maxCoeff()));
   VecN<double, Task::nx> x = x0;
-  double worst = 0, worst_qp = 0;
+  double worst = 0, worst_qp = 0, worst_batch = 0;
   for (int k = 0; k < 30; ++k) {
     const VecN<double, nv> u = ce.control();
     x = ad::evaluate(prob.dynamics, x, u, VecN<double, 1>::Zero().eval());
     x[0] += 1e-3 * std::sin(0.7 * k);  // a perturbation the model does not predict
     ce.shift();
     cg.shift();
+    cs.shift();
     ASSERT_EQ(ce.prepare(), cg.prepare()) << k;
+    ASSERT_EQ(cs.prepare(), cg.prepare()) << k;
     const auto fe = ce.feedback(x), fg = cg.feedback(x);
     ASSERT_EQ(fe, fg) << k;
+    ASSERT_EQ(cs.feedback(x), fg) << k;
     EXPECT_EQ(ce.info().qp_iterations, cg.info().qp_iterations) << k;
+    EXPECT_EQ(cs.info().qp_iterations, cg.info().qp_iterations) << k;
     const double d = (ce.control() - cg.control()).cwiseAbs().maxCoeff() /
                      (1 + ce.control().cwiseAbs().maxCoeff());
     EXPECT_LE(d, 1e-9) << k;
@@ -249,14 +337,21 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
                                   rel_diff(b.R, a.R), rel_diff(b.C, a.C), rel_diff(b.ug, a.ug)});
       EXPECT_LE(db, 1e-11) << k << " stage " << i;
       worst_qp = std::max(worst_qp, db);
+      const auto& c = cs.qp().stage[std::size_t(i)];
+      const double dc = std::max({rel_diff(b.A, c.A), rel_diff(b.B, c.B), rel_diff(b.Q, c.Q),
+                                  rel_diff(b.R, c.R), rel_diff(b.C, c.C), rel_diff(b.ug, c.ug)});
+      EXPECT_LE(dc, 1e-12) << k << " stage " << i;
+      worst_batch = std::max(worst_batch, dc);
     }
   }
   // The generated controller ran the generated code: other arithmetic, so its QP blocks differ
   // from the expression layer's by round-off somewhere over the run (were they bitwise equal
   // everywhere, the expression layer would have run twice).
   EXPECT_GT(worst_qp, 0.0);
-  std::printf("RTI loop, 30 samples: largest relative control difference %.2e, QP blocks %.2e\n",
-              worst, worst_qp);
+  std::printf(
+      "RTI loop, 30 samples: largest relative control difference %.2e, QP blocks %.2e; %d lanes: "
+      "batched against one by one %.2e\n",
+      worst, worst_qp, lanes, worst_batch);
 }
 
 }  // namespace

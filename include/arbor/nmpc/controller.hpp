@@ -374,12 +374,17 @@ class Nmpc {
     vectors_only_ = false;  // new matrices: the QP reads everything again
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
+    int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
+    if constexpr (K == ocp::HessianKind::gauss_newton && ocp::path_lanes < P, Scalar >> 1)
+      batched = linearize_path_batches();
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
       const std::size_t i = std::size_t(k);
-      const VecN<Scalar, ng> lg = lam_rows().template segment<ng>(Qp::constraint_offset(k));
-      const Vx ld = lam_rows().template segment<nx>(Qp::dynamics_offset(k));
-      ocp::linearize_path<K>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st);
+      if (k >= batched) {
+        const VecN<Scalar, ng> lg = lam_rows().template segment<ng>(Qp::constraint_offset(k));
+        const Vx ld = lam_rows().template segment<nx>(Qp::dynamics_offset(k));
+        ocp::linearize_path<K>(problem_, x_[i], w_[i], p_[i], x_[i + 1], ld, lg, st);
+      }
       if (settings_.input_regularization > Scalar(0))  // the proximal term (NmpcSettings)
         st.R.diagonal().template head<nu>().array() += settings_.input_regularization;
       if (!qp::detail::all_finite(st.Q, st.S, st.R, st.q, st.r, st.A, st.B, st.b, st.C, st.D) ||
@@ -550,6 +555,34 @@ class Nmpc {
   /// stored once).
   auto& lam_bounds() { return solver_.lam_x(); }
   const auto& lam_bounds() const { return solver_.lam_x(); }
+  /// The Gauss-Newton path stages L = ocp::path_lanes at a time (ocp::linearize_paths: the
+  /// generated stage code in SIMD lanes), as many whole groups of L as N holds (linearize_as
+  /// does the rest one by one); returns the number of stages done (0 when the problem's
+  /// generated or batched flag is off).
+  int linearize_path_batches() {
+    constexpr int L = ocp::path_lanes<P, Scalar>;
+    int k0 = 0;
+    for (; k0 + L <= N; k0 += L) {
+      ocp::PathPoint<Scalar> pt[L];
+      typename Qp::Stage* st[L];
+      for (int l = 0; l < L; ++l) {
+        const int k = k0 + l;
+        const std::size_t i = std::size_t(k);
+        const Scalar* lam = lam_rows().data();
+        pt[l] = {x_[i].data(),
+                 w_[i].data(),
+                 p_[i].data(),
+                 x_[i + 1].data(),
+                 lam + Qp::dynamics_offset(k),
+                 lam + Qp::constraint_offset(k)};
+        st[l] = &qp_.stage[i];
+      }
+      if (!ocp::linearize_paths<L>(problem_, pt, st))
+        return 0;
+    }
+    return k0;
+  }
+
   auto& lam_rows() { return solver_.lam_a(); }
   const auto& lam_rows() const { return solver_.lam_a(); }
 

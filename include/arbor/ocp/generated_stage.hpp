@@ -31,12 +31,21 @@
 // Cost: the generated operations (GeneratedStage<Def>::path_ops, terminal_ops); stack: the
 // chunks' shared values (gen/ad's emit_function), no heap, no statics. The blocks are written
 // through data(): the QP's stage types (qp/problem.hpp: fixed-size, column-major Eigen).
+// Batched path stages (linearize_paths, path_lanes): on a SIMD target the controller runs the
+// generated path code at Pack<T, L> (core/pack.hpp), L = pack_lanes<T> stages of the horizon at
+// once (4 doubles with AVX, 2 with SSE2 or NEON), the rest one by one; the same values to
+// round-off (the compiler may contract a * b + c differently in vector code). Cost per group: one
+// path's operations in L-lane arithmetic (sin, cos and sqrt lane by lane) plus copying the
+// inputs into lanes and the blocks out; stack: the generated code's shared values and the
+// blocks, L lanes each (~80 KB for the contour OCP-FD at 4 doubles). Targets without SIMD
+// (Cortex-M) compile none of it.
 #pragma once
 
 #include <type_traits>
 #include <utility>
 
 #include "arbor/core/math.hpp"
+#include "arbor/core/pack.hpp"
 #include "arbor/ocp/linearize.hpp"
 
 namespace arbor::ocp {
@@ -65,6 +74,9 @@ struct WithGeneratedStage : P {
   /// definition's, a payload declared on the RBD workspace at run time (ad::set_payload); the
   /// stages then come from the expression layer (one branch per stage).
   bool generated = true;
+  /// Where path_lanes > 1: the controller linearises the path stages that many at a time
+  /// (linearize_paths, default). false: one by one (the scalar generated code's values bitwise).
+  bool batched = true;
   explicit WithGeneratedStage(const P& p, bool use_generated = true)
       : P(p), generated(use_generated) {}
   /// The problem of the expression layer (the reference).
@@ -111,6 +123,82 @@ void linearize_path(const WithGeneratedStage<P, Def>& prob, const VecN<T, P::nx>
   } else {
     linearize_path<H>(prob.expressions(), x, w, p, x_next, lam_dyn, lam_g, st);
   }
+}
+
+/// Lanes of the batched Gauss-Newton path linearisation (linearize_paths) of problem P at scalar
+/// T: pack_lanes<T> for a problem with generated stages on a SIMD target, else 0 (none: every
+/// stage through linearize_path).
+template <class P, class T>
+inline constexpr int path_lanes = 0;
+template <class P, class Def, class T>
+inline constexpr int path_lanes<WithGeneratedStage<P, Def>, T> =
+    pack_lanes<T> > 1 ? pack_lanes<T> : 0;
+
+/// The inputs of one path stage for linearize_paths: linearize_path's vectors as pointers to
+/// their first entries (x, w, p, x_next, lam_dyn, lam_g).
+template <class T>
+struct PathPoint {
+  const T* x;
+  const T* w;
+  const T* p;
+  const T* x_next;
+  const T* lam_dyn;
+  const T* lam_g;
+};
+
+/// The Gauss-Newton linearize_path at L points at once: GeneratedStage<Def>::path at Pack<T, L>,
+/// lane l at point pt[l], its blocks written to *st[l] (see the top of this file). Returns false,
+/// writing nothing, when prob.generated or prob.batched is off.
+template <int L, class P, class Def, class T, class Stage>
+bool linearize_paths(const WithGeneratedStage<P, Def>& prob, const PathPoint<T> (&pt)[L],
+                     Stage* const (&st)[L]) {
+  detail::check_generated_problem<P, Def, T>();
+  if (!prob.generated || !prob.batched)
+    return false;
+  using V = Pack<T, L>;
+  constexpr int nx = P::nx, nw = P::nu + P::ns, np = P::np, ng = qp_rows(P::ng);
+  auto gather = [&](V* dst, int n, const T* PathPoint<T>::*src) {
+    for (int i = 0; i < n; ++i)
+      for (int l = 0; l < L; ++l)
+        dst[i].set(l, (pt[l].*src)[i]);
+  };
+  V x[nx], w[nw], xn[nx], ld[nx], p[np > 0 ? np : 1], lg[ng > 0 ? ng : 1];
+  gather(x, nx, &PathPoint<T>::x);
+  gather(w, nw, &PathPoint<T>::w);
+  gather(p, np, &PathPoint<T>::p);
+  gather(xn, nx, &PathPoint<T>::x_next);
+  gather(ld, nx, &PathPoint<T>::lam_dyn);
+  gather(lg, ng, &PathPoint<T>::lam_g);
+  // the blocks in lanes, sized by the stage's own (fixed-size) members
+  constexpr auto n = []<class M>(M Stage::*) {
+    return M::SizeAtCompileTime > 0 ? int(M::SizeAtCompileTime) : 1;
+  };
+  V A[n(&Stage::A)], B[n(&Stage::B)], b[n(&Stage::b)], Q[n(&Stage::Q)], S[n(&Stage::S)],
+      R[n(&Stage::R)], q[n(&Stage::q)], r[n(&Stage::r)], C[n(&Stage::C)], D[n(&Stage::D)],
+      lgo[n(&Stage::lg)], ugo[n(&Stage::ug)];
+  GeneratedStage<Def>::template path<V>(x, w, p, xn, ld, lg, A, B, b, Q, S, R, q, r, C, D, lgo,
+                                        ugo);
+  auto scatter = [&](const V* src, auto Stage::*m) {
+    for (int l = 0; l < L; ++l) {
+      auto& block = (*st[l]).*m;
+      T* d = block.data();
+      for (int i = 0; i < int(block.size()); ++i)
+        d[i] = src[i][l];
+    }
+  };
+  scatter(A, &Stage::A);
+  scatter(B, &Stage::B);
+  scatter(b, &Stage::b);
+  scatter(Q, &Stage::Q);
+  scatter(S, &Stage::S);
+  scatter(R, &Stage::R);
+  scatter(q, &Stage::q);
+  scatter(r, &Stage::r);
+  scatter(C, &Stage::C);
+  scatter(D, &Stage::D);
+  scatter(lgo, &Stage::lg);
+  scatter(ugo, &Stage::ug);
+  return true;
 }
 
 /// linearize_terminal for a problem with generated stages (see linearize_path above).
