@@ -16,7 +16,9 @@
 //    Hessians of lambda^T F: one reverse sweep for the gradient (lambda symbolic), then the
 //    Jacobian of that gradient (forward over reverse, or reverse over reverse, the cheaper).
 // 3. Dead-code elimination: only nodes the requested outputs depend on are emitted, as
-//    `const S t<i> = t<j> op t<k>;` in a function template over the scalar S; a function longer
+//    `const S t<i> = t<j> op t<k>;` in a function template over the scalar S (the sine and the
+//    cosine of one value as `S t<i>, t<j>; sincos(t<k>, t<i>, t<j>);` at the first of the two,
+//    when both are computed in the same function or part); a function longer
 //    than chunk_ops_setting operations (default 2000) is split into parts that pass the values
 //    they share through an array on the entry function's stack (emit_function), which keeps
 //    the compiler's time and memory linear in the length.

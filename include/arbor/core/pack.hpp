@@ -3,12 +3,12 @@
 // of ocp/generated_stage.hpp over L stages of a horizon). Built on the GCC / Clang vector
 // extension: + - * / and negation are one SIMD instruction per register where the target has
 // SIMD (elsewhere the compiler lowers them lane by lane), sqrt, sin, cos through the scalar's own
-// customisation points lane by lane (the same values as L scalar calls; sincos of double lanes in
-// one batch, core/sincos_batch.hpp, the same values too), positive_part and unit_step as
-// lane-wise selects (no branch). Lane l of the result of an operation is the
-// operation on lane l of its operands: IEEE arithmetic per lane, so Pack code gives the scalar
-// code's values, up to the compiler's contraction of a * b + c into fused multiply-adds, which it
-// may decide differently for vector and scalar code.
+// customisation points lane by lane (sincos of double lanes in one batch, core/sincos_batch.hpp),
+// positive_part and unit_step as lane-wise selects (no branch). Lane l of the result of an
+// operation is the operation on lane l of its operands: IEEE arithmetic per lane, so Pack code
+// gives the scalar code's values bit for bit where the compiler does not contract a * b + c into
+// fused multiply-adds (-ffp-contract=off); where it does (FMA targets at -O2 and above), it may
+// contract vector and scalar code differently: the same values to round-off.
 // Sizes: L a power of two; the pack is aligned to its size (32 B for 4 doubles); no heap.
 // simd_bytes: the widest SIMD register the compiler may use for floating arithmetic (0: none);
 // pack_lanes<T>: the lanes of T in one such register (1 without SIMD).
@@ -22,7 +22,8 @@
 
 namespace arbor {
 
-/// Bytes of the widest SIMD register the compiler may use for floating arithmetic (0: none).
+/// Bytes of the SIMD register the batched code fills (0: none): 32 with AVX (also under AVX-512:
+/// the 64-byte registers are not used), 16 with SSE2 or NEON.
 #if defined(__AVX__)
 inline constexpr int simd_bytes = 32;
 #elif defined(__SSE2__) || defined(__ARM_NEON)
@@ -45,6 +46,8 @@ struct Pack {
   using Lanes [[gnu::vector_size(sizeof(T) * L)]] = T;
 
   Lanes v;  ///< the lanes (v[l]: lane l)
+  /// The comparison's result: per lane all bits set (true) or none, an integer of T's size.
+  using Mask = decltype(Lanes{} > T(0));
 
   Pack() = default;
   /// Every lane x (the generated code's constants: S(0.5)).
@@ -83,8 +86,8 @@ struct Pack {
       r.v[l] = arbor::cos(a.v[l]);
     return r;
   }
-  /// arbor::sincos's customisation: double lanes in one batch (core/sincos_batch.hpp, bit for
-  /// bit sincos_double's values, across SIMD lanes), float lane by lane.
+  /// arbor::sincos's customisation: double lanes in one batch (core/sincos_batch.hpp:
+  /// sincos_double's values, across SIMD lanes), float lane by lane.
   friend void arbor_sincos(const Pack& a, Pack& s, Pack& c) {
     T x[L], sl[L], cl[L];
     for (int l = 0; l < L; ++l)
@@ -100,10 +103,17 @@ struct Pack {
       c.v[l] = cl[l];
     }
   }
-  /// max(a, 0) per lane (a NaN lane gives 0, as the scalar's a > 0 ? a : 0).
-  friend Pack positive_part(const Pack& a) { return of(a.v > T(0) ? a.v : Lanes{}); }
-  /// 1 where a lane is > 0, else 0.
-  friend Pack unit_step(const Pack& a) { return of(a.v > T(0) ? Lanes{} + T(1) : Lanes{}); }
+  /// max(a, 0) per lane as the scalar's a > 0 ? a : 0: +0 for a NaN lane and for -0. The lanes'
+  /// bits masked by the comparison (__builtin_bit_cast: no function returns a vector, so no ABI
+  /// note on targets narrower than the pack), then + 0: Clang for AArch64 turns the mask (as a
+  /// select) into a maximum, which may keep -0; -0 + 0 is +0 (core_pack_test).
+  friend Pack positive_part(const Pack& a) {
+    return of(__builtin_bit_cast(Lanes, __builtin_bit_cast(Mask, a.v) & (a.v > T(0))) + Lanes{});
+  }
+  /// 1 where a lane is > 0, else +0 (the bits of 1 masked by the comparison).
+  friend Pack unit_step(const Pack& a) {
+    return of(__builtin_bit_cast(Lanes, __builtin_bit_cast(Mask, Lanes{} + T(1)) & (a.v > T(0))));
+  }
 
  private:
   static Pack of(const Lanes& x) {

@@ -1,8 +1,10 @@
 // arbor: the sines and cosines of N doubles at once (a robot's revolute joints, the lanes of a
 // Pack<double, L> of core/pack.hpp). sincos_double's general path, detail::sincos_reduced
 // (core/math.hpp, branch-free), called lane by lane in one straight loop, so that the compiler
-// runs it across SIMD lanes (4 joints per instruction with AVX2): bit for bit the results of
-// sincos_double for every argument. The arguments sincos_double treats
+// runs it across SIMD lanes (4 joints per instruction with AVX2): the results of sincos_double
+// for every argument, bit for bit where the compiler does not contract a * b + c into fused
+// multiply-adds (-ffp-contract=off), else within an ulp or so (it may contract the lanes and a
+// scalar call differently). The arguments sincos_double treats
 // apart (|x| > 1e5, non-finite, |x| < 2^-26 where -0.0 keeps its sign) are found by one test over
 // all lanes on the bits of |x| and redone by sincos_double (their lanes' first results, garbage,
 // are overwritten). Kinova Gen3, seven joints: about 7 x 71 instructions one by one, about 200 in

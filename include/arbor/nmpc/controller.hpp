@@ -375,7 +375,8 @@ class Nmpc {
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
     int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
-    if constexpr (K == ocp::HessianKind::gauss_newton && ocp::path_lanes < P, Scalar >> 1)
+    constexpr int lanes = ocp::path_lanes<P, Scalar>;  // (0 or 1: no batched path)
+    if constexpr (K == ocp::HessianKind::gauss_newton && lanes > 1)
       batched = linearize_path_batches();
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
@@ -562,23 +563,25 @@ class Nmpc {
   int linearize_path_batches() {
     constexpr int L = ocp::path_lanes<P, Scalar>;
     int k0 = 0;
-    for (; k0 + L <= N; k0 += L) {
-      ocp::PathPoint<Scalar> pt[L];
-      typename Qp::Stage* st[L];
-      for (int l = 0; l < L; ++l) {
-        const int k = k0 + l;
-        const std::size_t i = std::size_t(k);
-        const Scalar* lam = lam_rows().data();
-        pt[l] = {x_[i].data(),
-                 w_[i].data(),
-                 p_[i].data(),
-                 x_[i + 1].data(),
-                 lam + Qp::dynamics_offset(k),
-                 lam + Qp::constraint_offset(k)};
-        st[l] = &qp_.stage[i];
+    if constexpr (L > 1) {  // (an explicit instantiation of the class compiles it for L = 0 too)
+      for (; k0 + L <= N; k0 += L) {
+        ocp::PathPoint<Scalar> pt[L];
+        typename Qp::Stage* st[L];
+        for (int l = 0; l < L; ++l) {
+          const int k = k0 + l;
+          const std::size_t i = std::size_t(k);
+          const Scalar* lam = lam_rows().data();
+          pt[l] = {x_[i].data(),
+                   w_[i].data(),
+                   p_[i].data(),
+                   x_[i + 1].data(),
+                   lam + Qp::dynamics_offset(k),
+                   lam + Qp::constraint_offset(k)};
+          st[l] = &qp_.stage[i];
+        }
+        if (!ocp::linearize_paths<L>(problem_, pt, st))
+          return 0;
       }
-      if (!ocp::linearize_paths<L>(problem_, pt, st))
-        return 0;
     }
     return k0;
   }
