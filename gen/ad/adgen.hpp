@@ -532,6 +532,13 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
       }
     }
   }
+  // the declaration and call of sin/cos pair (i, j = partner[i]), their locals named by name()
+  auto sincos_line = [&](int i, auto&& name, auto&& ref) {
+    const int j = partner[i];
+    const int s_id = g.nodes[i].op == Op::sin ? i : j, c_id = g.nodes[i].op == Op::sin ? j : i;
+    return "    S " + name(s_id) + ", " + name(c_id) + ";\n    sincos(" + ref(g.nodes[i].a) + ", " +
+           name(s_id) + ", " + name(c_id) + ");\n";
+  };
   char buf[160];
   auto constant = [&](int i) -> std::string {
     // shortest text that reads back as the same double
@@ -613,10 +620,8 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
       local[i] = next++;
       if (const int j = partner[i]; j > i) {
         local[j] = next++;
-        const int s_id = nd.op == Op::sin ? i : j, c_id = nd.op == Op::sin ? j : i;
-        body += "    S t" + std::to_string(local[s_id]) + ", t" + std::to_string(local[c_id]) +
-                ";\n    sincos(" + ref(nd.a) + ", t" + std::to_string(local[s_id]) + ", t" +
-                std::to_string(local[c_id]) + ");\n";
+        body += sincos_line(
+            i, [&](int k) { return "t" + std::to_string(local[k]); }, ref);
         continue;
       }
       const std::string rhs = nd.op == Op::input ? input(i) : rhs_of(nd, ref);
@@ -696,16 +701,12 @@ inline long emit_function(std::string& out, const Graph& g, const std::string& n
       const int i = ops_order[p];
       const std::string t = "t" + std::to_string(i);
       const int j = partner[i];
-      const Node& nd = g.nodes[i];
       if (j >= 0 && chunk_of[j] == c) {  // a sincos pair within this chunk: one call at the first
-        if (j > i) {
-          const int s_id = nd.op == Op::sin ? i : j, c_id = nd.op == Op::sin ? j : i;
-          body += "    S t" + std::to_string(s_id) + ", t" + std::to_string(c_id) +
-                  ";\n    sincos(" + ref(nd.a) + ", t" + std::to_string(s_id) + ", t" +
-                  std::to_string(c_id) + ");\n";
-        }
+        if (j > i)
+          body += sincos_line(
+              i, [](int k) { return "t" + std::to_string(k); }, ref);
       } else {
-        body += "    const S " + t + " = " + rhs_of(nd, ref) + ";\n";
+        body += "    const S " + t + " = " + rhs_of(g.nodes[i], ref) + ";\n";
       }
       if (slot[i] >= 0)
         body += "    w[" + std::to_string(slot[i]) + "] = " + t + ";\n";

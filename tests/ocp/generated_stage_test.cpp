@@ -259,18 +259,9 @@ void check_batched(const char* name, int groups, unsigned seed, double tol) {
   const VecN<T, nw> w = VecN<T, nw>::Zero();
   const VecN<T, np> p = VecN<T, np>::Zero();
   const VecN<T, ng> lg = VecN<T, ng>::Zero();
-  sentinel.A.setConstant(T(7));
-  sentinel.B.setConstant(T(7));
-  sentinel.b.setConstant(T(7));
-  sentinel.Q.setConstant(T(7));
-  sentinel.S.setConstant(T(7));
-  sentinel.R.setConstant(T(7));
-  sentinel.q.setConstant(T(7));
-  sentinel.r.setConstant(T(7));
-  sentinel.C.setConstant(T(7));
-  sentinel.D.setConstant(T(7));
-  sentinel.lg.setConstant(T(7));
-  sentinel.ug.setConstant(T(7));
+  auto fill = [](auto&... m) { (m.setConstant(T(7)), ...); };
+  fill(sentinel.A, sentinel.B, sentinel.b, sentinel.Q, sentinel.S, sentinel.R, sentinel.q,
+       sentinel.r, sentinel.C, sentinel.D, sentinel.lg, sentinel.ug);
   for (int flag = 0; flag < 2; ++flag) {
     gen.batched = flag != 0;
     gen.generated = flag == 0;

@@ -53,3 +53,17 @@
 #define ARBOR_ASSERT(cond, msg) \
   ((cond) ? (void)0 : (ARBOR_ASSERT_HANDLER(__FILE__, __LINE__, #cond, msg), (void)0))
 #endif
+
+namespace arbor {
+/// Bytes of the SIMD register arbor's lane-parallel code fills (0: none): 32 with AVX (also under
+/// AVX-512: the 64-byte registers are not used), 16 with SSE2 or NEON. Dual numbers pad their
+/// directions to it (ad/expr/structure.hpp), the joints' sines and cosines are batched to it
+/// (core/sincos_batch.hpp), generated stages run that many bytes of lanes (core/pack.hpp).
+#if defined(__AVX__)
+inline constexpr int simd_bytes = 32;
+#elif defined(__SSE2__) || defined(__ARM_NEON)
+inline constexpr int simd_bytes = 16;
+#else
+inline constexpr int simd_bytes = 0;
+#endif
+}  // namespace arbor

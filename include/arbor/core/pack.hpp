@@ -4,14 +4,13 @@
 // extension: + - * / and negation are one SIMD instruction per register where the target has
 // SIMD (elsewhere the compiler lowers them lane by lane), sqrt, sin, cos through the scalar's own
 // customisation points lane by lane (sincos of double lanes in one batch, core/sincos_batch.hpp),
-// positive_part and unit_step as lane-wise selects (no branch). Lane l of the result of an
+// positive_part and unit_step by masked bits (no branch). Lane l of the result of an
 // operation is the operation on lane l of its operands: IEEE arithmetic per lane, so Pack code
 // gives the scalar code's values bit for bit where the compiler does not contract a * b + c into
 // fused multiply-adds (-ffp-contract=off); where it does (FMA targets at -O2 and above), it may
 // contract vector and scalar code differently: the same values to round-off.
 // Sizes: L a power of two; the pack is aligned to its size (32 B for 4 doubles); no heap.
-// simd_bytes: the widest SIMD register the compiler may use for floating arithmetic (0: none);
-// pack_lanes<T>: the lanes of T in one such register (1 without SIMD).
+// pack_lanes<T>: the lanes of T in one register of simd_bytes (core/config.hpp; 1 without SIMD).
 #pragma once
 
 #include <limits>
@@ -21,16 +20,6 @@
 #include "arbor/core/sincos_batch.hpp"
 
 namespace arbor {
-
-/// Bytes of the SIMD register the batched code fills (0: none): 32 with AVX (also under AVX-512:
-/// the 64-byte registers are not used), 16 with SSE2 or NEON.
-#if defined(__AVX__)
-inline constexpr int simd_bytes = 32;
-#elif defined(__SSE2__) || defined(__ARM_NEON)
-inline constexpr int simd_bytes = 16;
-#else
-inline constexpr int simd_bytes = 0;
-#endif
 
 /// Lanes of T in one SIMD register of the target (1 without SIMD or for a wider T).
 template <class T>

@@ -19,15 +19,9 @@
 
 namespace arbor::detail {
 
-/// The lane count the batch is padded to: a whole number of SIMD registers of doubles where the
-/// target has them (padding costs work where it does not).
-#if defined(__AVX__)
-inline constexpr int kSincosLanes = 4;
-#elif defined(__SSE2__) || defined(__ARM_NEON) || defined(__aarch64__)
-inline constexpr int kSincosLanes = 2;
-#else
-inline constexpr int kSincosLanes = 1;
-#endif
+/// The lane count the batch is padded to: one SIMD register of doubles where the target has one
+/// (simd_bytes, core/config.hpp), else 1 (padding costs work where there is no SIMD).
+inline constexpr int kSincosLanes = simd_bytes >= 16 ? simd_bytes / 8 : 1;
 
 /// s[j], c[j] = sin x[j], cos x[j] for j < N, each bit for bit sincos_double(x[j]).
 template <int N>

@@ -375,8 +375,7 @@ class Nmpc {
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
     int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
-    constexpr int lanes = ocp::path_lanes<P, Scalar>;  // (0 or 1: no batched path)
-    if constexpr (K == ocp::HessianKind::gauss_newton && lanes > 1)
+    if constexpr (K == ocp::HessianKind::gauss_newton)
       batched = linearize_path_batches();
     for (int k = 0; k < N; ++k) {
       auto& st = qp_.stage[std::size_t(k)];
@@ -558,19 +557,19 @@ class Nmpc {
   const auto& lam_bounds() const { return solver_.lam_x(); }
   /// The Gauss-Newton path stages L = ocp::path_lanes at a time (ocp::linearize_paths: the
   /// generated stage code in SIMD lanes), as many whole groups of L as N holds (linearize_as
-  /// does the rest one by one); returns the number of stages done (0 when the problem's
-  /// generated or batched flag is off).
+  /// does the rest one by one); returns the number of stages done (0 without a batched path:
+  /// no generated stages, no SIMD, or the problem's generated or batched flag off).
   int linearize_path_batches() {
     constexpr int L = ocp::path_lanes<P, Scalar>;
     int k0 = 0;
-    if constexpr (L > 1) {  // (an explicit instantiation of the class compiles it for L = 0 too)
+    if constexpr (L > 1) {
+      const Scalar* lam = lam_rows().data();
       for (; k0 + L <= N; k0 += L) {
         ocp::PathPoint<Scalar> pt[L];
         typename Qp::Stage* st[L];
         for (int l = 0; l < L; ++l) {
           const int k = k0 + l;
           const std::size_t i = std::size_t(k);
-          const Scalar* lam = lam_rows().data();
           pt[l] = {x_[i].data(),
                    w_[i].data(),
                    p_[i].data(),

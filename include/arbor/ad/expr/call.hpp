@@ -284,7 +284,7 @@ struct CallExpr {
         // parts, a few wasted products): row by row, along the directions (the loop vectorizes,
         // the row's accumulators stay in registers). Otherwise (no SIMD, e.g. a Cortex-M, or
         // scattered directions): direction by direction, the rows' accumulators in registers.
-        constexpr int lanes = detail::simd_bytes / int(sizeof(detail::base_t<T>));
+        constexpr int lanes = arbor::simd_bytes / int(sizeof(detail::base_t<T>));
         if constexpr (lanes > 1 && kg > 0 && 4 * kn <= 5 * kg) {
           [&]<std::size_t... Is>(std::index_sequence<Is...>) {
             auto row = [&](auto ic) {

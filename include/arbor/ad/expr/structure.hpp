@@ -29,7 +29,7 @@
 #include "arbor/ad/expr/leaves.hpp"
 #include "arbor/ad/expr/reductions.hpp"
 #include "arbor/ad/expr/values.hpp"
-#include "arbor/core/pack.hpp"
+#include "arbor/core/config.hpp"
 
 namespace arbor::ad::detail {
 
@@ -231,16 +231,13 @@ requires(L >= 1) struct CompressedScalar<Dual<T, N>, K, L> {
 template <class S, int K, int L>
 using Compressed = typename CompressedScalar<S, K, L>::type;
 
-/// Bytes of the widest SIMD register the compiler may use for dual arithmetic (0: none).
-inline constexpr int simd_bytes = arbor::simd_bytes;
-
 /// The number of directions of a compressed dual keeping K of N directions of base scalar B:
 /// K rounded up to whole SIMD registers (a dual whose directions fill whole registers is
 /// vectorised without remainder loops; the padding directions are zero), at most N; K where
 /// there is no SIMD (every direction costs its instructions).
 template <class B, int N, int K>
 constexpr int padded_directions() {
-  constexpr int lanes = simd_bytes / int(sizeof(B));
+  constexpr int lanes = arbor::simd_bytes / int(sizeof(B));
   if constexpr (K == 0 || lanes <= 1) {
     return K;
   } else {
