@@ -69,7 +69,9 @@
 //   returned at a point that violates a row relative to its own size. SolveInfo reports the
 //   residuals as the data state them (unnormalised).
 // - Infeasibility: every step's multiplier change y = dlam is tested as a Farkas certificate
-//   (after the next evaluate(), unless that one ends the loop as `solved`: settle_farkas()):
+//   (after the next evaluate(), unless that one ends the loop as `solved`, or at the iteration
+//   cap with no certificate before it, where one more could not change the status:
+//   settle_farkas()):
 //   with y normalised (sum |y_i| |a_i| = 1), entries on a side with an infinite bound left out,
 //   e = y_x + A' y_a and sigma = sum_{y_i>0} ub_i y_i + sum_{y_i<0} lb_i y_i, every x has
 //   y'z = e'x and every feasible x has y'z <= sigma; with bscale the largest |bound_i| / |a_i|
@@ -163,21 +165,106 @@ class ActiveSetCore {
     pre_w_ = w_;
     return ok;
   }
-  /// Forgets a prefactorization (the matrices changed).
-  void discard_prefactorization() { prefactored_ = false; }
+  /// Forgets a prefactorization and a presolve (the matrices changed).
+  void discard_prefactorization() {
+    prefactored_ = false;
+    presolved_ = 0;
+  }
+  /// Forgets a presolve (the vectors were re-read).
+  void discard_presolve() { presolved_ = 0; }
+
+  /// prefactorize() and, beyond it, the first step of a solve from x = 0 (x is set to 0 here)
+  /// with the current multipliers and vectors: for the feedback of real-time iteration, whose QP
+  /// differs from the prepared one only in the targets of the first n variables' bounds (the
+  /// OCP's x_0: equalities the backend holds exactly). solve_from() then adds to this step its
+  /// response to the targets' move instead of computing it. Needs a backend with the
+  /// InitialOnly solve (ocp_riccati_backend.hpp) for the step (without one, or when the n
+  /// bounds are not such equalities, only the factorization is kept). Returns prefactorize()'s
+  /// result.
+  template <ActiveSetBackend<Scalar, NV, NA> Backend>
+  bool presolve(Backend& be, const QpSettings<Scalar>& s, int& stages, int n) {
+    presolved_ = 0;
+    x.setZero();
+    if (!prefactorize(be, s, stages))
+      return false;
+    if constexpr (PathProducts<Backend, Scalar, NV, NA> &&
+                  requires { be.template solve_exact<false, true>(dx_, tmpa_, tmpv_, wa_); }) {
+      for (int i = 0; i < n; ++i) {
+        if (ws[i] != State::equality || !Backend::exact_bound(i))
+          return true;  // the targets' move would not be a step of fixed variables
+      }
+      evaluate(be, true, n);  // (A x = 0, H x = 0: r = g + lam_x + A' lam)
+      compute_step(be);
+      presolved_ = n;
+      pre_lam_ = lam_checksum();
+    } else {
+      (void)n;
+    }
+    return true;
+  }
+
+  /// The solve from x = 0 (set here) with the bounds of the first n variables moved to
+  /// lbx = ubx = t (n values): after presolve() with the same n, when the multipliers are still
+  /// those it saw (the caller has not written them: checked by a checksum) and no vector was
+  /// re-read (update_vectors() discards it), the first iteration takes presolve()'s step plus
+  /// its response to the move (one InitialOnly solve) instead of a full evaluation and solve;
+  /// otherwise, and for a first iteration that changes the working set, solve() as usual.
+  /// The same iterates as solve() to round-off.
+  template <ActiveSetBackend<Scalar, NV, NA> Backend>
+  [[nodiscard]] QpStatus solve_from(Backend& be, const QpSettings<Scalar>& s,
+                                    SolveInfo<Scalar>& info, const Scalar* t, int n) {
+    const bool use = presolved_ > 0 && presolved_ == n && prefactored_ && w_ == pre_w_ &&
+                     w_ == h_ / s.reg_dual && delta_ == s.reg_primal &&
+                     x.cwiseAbs().sum() == Scalar(0) && lam_checksum() == pre_lam_;
+    presolved_ = 0;
+    if (!use) {
+      for (int i = 0; i < n; ++i)
+        lbx(i) = ubx(i) = t[i];
+      x.setZero();
+      return solve(be, s, info);
+    }
+    // presolve()'s begin() built the working set, the row weights and the factorization for
+    // these multipliers: the loop starts without them; tmpv_ carries the fixed steps' move
+    info = SolveInfo<Scalar>{};
+    info.presolved = true;
+    prefactored_ = false;
+    refactor_ = false;
+    tmpv_.setZero();
+    for (int i = 0; i < n; ++i) {
+      tmpv_(i) = t[i] - lbx(i);
+      lbx(i) = ubx(i) = t[i];
+    }
+    reset_loop();
+    return iterate(be, s, info, true);
+  }
 
   /// Runs the method from the current (x, lam); fills info; returns the status.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
   [[nodiscard]] QpStatus solve(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info) {
     info = SolveInfo<Scalar>{};
     begin(be, s);
+    return iterate(be, s, info, false);
+  }
+
+ private:
+  /// The iterations of solve() and solve_from() (presolved: the first step is presolve()'s,
+  /// moved by the fixed steps in tmpv_).
+  template <typename Backend>
+  QpStatus iterate(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
+                   bool presolved) {
     QpStatus status = QpStatus::iteration_limit;
     for (int it = 0;; ++it) {
-      evaluate(be, exact_next_);
-      settle_farkas(be, s);
+      // presolved: the products at x = 0 are presolve()'s and only the first bounds moved:
+      // their residuals merged with presolve()'s pass over the rest (not exact_: a loop that
+      // may end here judges products from scratch, below)
+      if (presolved && it == 0)
+        scan_moved();
+      else
+        evaluate(be, exact_next_);
+      settle_farkas(be, s, it);
       if (!exact_ && may_stop(s, it)) {
         evaluate(be, true);  // a loop that ends judges (and reports) products from scratch
-        settle_farkas(be, s);
+        settle_farkas(be, s, it);
       }
       if (converged_or_stopped(s, it, status))
         break;
@@ -187,7 +274,10 @@ class ActiveSetCore {
         status = QpStatus::non_convex;
         break;
       }
-      compute_step(be);
+      if (presolved && it == 0 && !changed && !refactor_)
+        move_presolved_step(be);
+      else
+        compute_step(be);
       Scalar tau = ratio_test(s);
       if (tau == Scalar(1) && pending_ < 0 && refine_step(be, s))
         tau = ratio_test(s);
@@ -198,7 +288,6 @@ class ActiveSetCore {
     return finish(be, s, info, status);
   }
 
- private:
   using State = ConstraintState;
   static constexpr Scalar inf() { return std::numeric_limits<Scalar>::infinity(); }
   static Scalar clamp(Scalar v, Scalar lo, Scalar hi) { return v < lo ? lo : (v > hi ? hi : v); }
@@ -233,12 +322,12 @@ class ActiveSetCore {
     return std::max(std::max(pr_ / (s.tol_primal * pr_scale_), du_ / (s.tol_dual * du_scale_)),
                     co_ / (s.tol_comp * pr_scale_));
   }
-  /// Entry i of the Farkas direction: dlam(i), or 0 on a side whose bound is infinite or when
-  /// not finite.
-  Scalar farkas_entry(int i) const {
-    const Scalar y = dlam(i);
-    const bool usable = y > 0 ? ub(i) < inf() : (y < 0 ? lb(i) > -inf() : true);
-    return usable && std::isfinite(y) ? y : Scalar(0);
+  /// An entry of the Farkas direction: the multiplier step y of a constraint with bounds lo, hi,
+  /// or 0 on a side whose bound is infinite or when not finite.
+  static Scalar farkas_entry(Scalar y, Scalar lo, Scalar hi) {
+    if (y == 0 || !std::isfinite(y))
+      return Scalar(0);
+    return (y > 0 ? hi < inf() : lo > -inf()) ? y : Scalar(0);
   }
   /// Threshold above which a wrong-sign multiplier (per constraint) fails the termination test.
   Scalar drop_threshold(const QpSettings<Scalar>& s) const {
@@ -255,8 +344,23 @@ class ActiveSetCore {
   void working_set_from_multipliers();
   /// The scalar residuals below from z = A x, hx = H x and r = H x + g + lam_x + A' lam: with
   /// exact, these products are computed from scratch first, else take_step() updated them.
+  /// split > 0 (presolve()): the pass over the constraints [split, nz) is also kept in pre_scan_.
   template <typename Backend>
-  void evaluate(const Backend& be, bool exact = true);
+  void evaluate(const Backend& be, bool exact = true, int split = 0);
+  /// The running maxima of evaluate()'s pass over the constraints (see there).
+  struct Scan {
+    Scalar pscale = 1, pr = 0, co = 0, pr_abs = 0, co_abs = 0, sd = 0, pc = 0;
+    int isd = -1, ipc = -1;
+    ConstraintState spc = ConstraintState::inactive;
+  };
+  /// evaluate()'s pass over the constraints [from, to), continuing sc.
+  void scan(Scan& sc, int from, int to) const;
+  /// a <- the pass over a's constraints then b's (which follow them).
+  static void merge(Scan& a, const Scan& b);
+  /// The residual members from a finished pass.
+  void store(const Scan& sc);
+  /// evaluate() after presolve() when only the first presolved_ bounds moved (solve_from()).
+  void scan_moved();
   /// True when converged_or_stopped() might end the loop (a conservative test, no side effects).
   bool may_stop(const QpSettings<Scalar>& s, int it) const {
     return !std::isfinite(pr_) || !std::isfinite(du_) || merit_of(s) <= 1 || unbounded_candidate_ ||
@@ -273,6 +377,13 @@ class ActiveSetCore {
   /// (dx, dz, dlam): the step to the regularised equality-constrained QP of the working set.
   template <typename Backend>
   void compute_step(const Backend& be);
+  /// presolve()'s step plus its response to the fixed steps' move in tmpv_ (solve_from()).
+  template <typename Backend>
+  void move_presolved_step(const Backend& be);
+  /// Two sums of the multipliers (values, magnitudes): whether presolve()'s still hold.
+  std::array<Scalar, 2> lam_checksum() const {
+    return {lam_x.sum() + lam_a.sum(), lam_x.cwiseAbs().sum() + lam_a.cwiseAbs().sum()};
+  }
   /// A full step that nothing blocks lands on the working set's regularised solution, which
   /// misses the constraints held by weights by eps |dlam_i| |a_i| (per constraint); when that
   /// would fail the primal test, one more proximal step on the same factorization (centred at
@@ -291,10 +402,15 @@ class ActiveSetCore {
   /// step's dlam is still in dlam_x_, dlam_a_, and pr_prev_ holds the primal error it was taken
   /// from, so the count is the one a test right after the step would give.
   template <typename Backend>
-  void settle_farkas(const Backend& be, const QpSettings<Scalar>& s) {
+  void settle_farkas(const Backend& be, const QpSettings<Scalar>& s, int it) {
     if (!farkas_pending_ || merit_of(s) <= 1)
       return;
     farkas_pending_ = false;
+    // at the iteration cap the loop ends here: a first certificate could not make it
+    // `infeasible` (two consecutive ones do), so the test would change nothing (the bounded
+    // feedback of the NMPC ends at its cap in most samples)
+    if (it >= s.max_iter && certificate_count_ == 0)
+      return;
     if (farkas_step(be, s, pr_prev_))
       ++certificate_count_;
     else
@@ -374,24 +490,22 @@ class ActiveSetCore {
   bool prefactored_ = false;  ///< prefactorize() left a factorization to reuse
   std::array<ConstraintState, nz> pre_ws_{};  ///< the working set it factorized
   Scalar pre_w_ = 0;                          ///< the bound weight it used
+  bool finite_ = true;  ///< every entry the last evaluate()'s pass read was finite
+  Scan pre_scan_{};     ///< presolve()'s pass over the constraints after the moved bounds
+  int presolved_ = 0;   ///< presolve() left the first step for this many targets
+  std::array<Scalar, 2> pre_lam_{};  ///< lam_checksum() at presolve()
 };
 
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>& s) {
   ARBOR_ASSERT(s.reg_primal > 0 && s.reg_dual > 0, "regularisations must be positive");
-  for (int i = 0; i < NV; ++i) {
-    if (!std::isfinite(x(i)) || !std::isfinite(lam_x(i))) {
-      cold_start();
-      break;
-    }
-  }
-  for (int i = 0; i < NA; ++i) {
-    if (!std::isfinite(lam_a(i))) {
-      cold_start();
-      break;
-    }
-  }
+  // a non-finite entry anywhere in the iterate: a cold start (v 0 is NaN exactly for +-inf and
+  // NaN: one vectorised sum instead of a test per entry)
+  const Scalar zero = (x.array() * Scalar(0)).sum() + (lam_x.array() * Scalar(0)).sum() +
+                      (lam_a.array() * Scalar(0)).sum();
+  if (!(zero == zero))
+    cold_start();
   working_set_from_multipliers();
   delta_ = s.reg_primal;
   // with relative_regularisation, epsilon relative to the curvature: w = h / reg_dual with h the
@@ -468,10 +582,18 @@ void ActiveSetCore<Scalar, NV, NA>::working_set_from_multipliers() {
 
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
-void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
+void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, int split) {
   if (exact) {
-    be.cons_mul(x, za_);
-    be.hess_mul(x, hx_);
+    // A x and H x vanish at x = 0 (the NMPC's QP starts every sample there): no product (the
+    // matrices are finite, update() checked them; a sum of magnitudes is 0 only when every
+    // entry is, NaN and infinities included)
+    if (x.cwiseAbs().sum() == Scalar(0)) {
+      za_.setZero();
+      hx_.setZero();
+    } else {
+      be.cons_mul(x, za_);
+      be.hess_mul(x, hx_);
+    }
     be.cons_tmul(lam_a, r_);
     r_ += hx_ + g + lam_x;
     since_exact_ = 0;
@@ -501,11 +623,26 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
     }
   }
   du_scale_ = dscale;
+  finite_ = finite;
+  Scan sc;
+  if (split > 0) {  // presolve(): the pass over [split, nz) kept for scan_moved()
+    scan(sc, 0, split);
+    pre_scan_ = Scan{};
+    scan(pre_scan_, split, nz);
+    merge(sc, pre_scan_);
+  } else {
+    scan(sc, 0, nz);
+  }
+  store(sc);
+}
+
+template <typename Scalar, int NV, int NA>
+void ActiveSetCore<Scalar, NV, NA>::scan(Scan& sc, int from, int to) const {
   // the scalars are kept in locals (the working set is int8_t, which may alias the members)
-  Scalar pscale = 1;  // max(1, |z_i| / |a_i|) in the loop, plus 1 after it
-  Scalar pr = 0, co = 0, pr_abs = 0, co_abs = 0, sd = 0, pc = 0;
-  int isd = -1, ipc = -1;
-  State spc = State::inactive;
+  Scalar pscale = sc.pscale, pr = sc.pr, co = sc.co, pr_abs = sc.pr_abs, co_abs = sc.co_abs;
+  Scalar sd = sc.sd, pc = sc.pc;
+  int isd = sc.isd, ipc = sc.ipc;
+  State spc = sc.spc;
   const State* w = ws.data();
   // one body for the bounds (n = 1, folded) and the rows: no branch on i < NV per constraint
   const auto visit = [&](auto check, int i, Scalar z, Scalar l, Scalar u, Scalar m, Scalar n) {
@@ -552,26 +689,63 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact) {
       }
     }
   };
+  const int bend = std::min(to, NV), rbeg = std::max(from, NV);
   const auto pass = [&](auto check) {
-    for (int i = 0; i < NV; ++i)
+    for (int i = from; i < bend; ++i)
       visit(check, i, x(i), lbx(i), ubx(i), lam_x(i), Scalar(1));
-    for (int j = 0; j < NA; ++j)
+    for (int j = rbeg - NV; j < to - NV; ++j)
       visit(check, NV + j, za_(j), lba(j), uba(j), lam_a(j), rn_(j));
   };
-  if (finite)
+  if (finite_)
     pass(std::false_type{});
   else
     pass(std::true_type{});
-  pr_scale_ = pscale + Scalar(1);
-  pr_ = pr;
-  co_ = co;
-  pr_abs_ = pr_abs;
-  co_abs_ = co_abs;
-  sd_ = sd;
-  isd_ = isd;
-  pc_ = pc;
-  ipc_ = ipc;
-  spc_ = spc;
+  sc = Scan{pscale, pr, co, pr_abs, co_abs, sd, pc, isd, ipc, spc};
+}
+
+template <typename Scalar, int NV, int NA>
+void ActiveSetCore<Scalar, NV, NA>::merge(Scan& a, const Scan& b) {
+  // b's constraints follow a's: a maximum moves to b only when b's is strictly larger (the
+  // first index wins, as in one pass)
+  a.pscale = std::max(a.pscale, b.pscale);
+  a.pr = std::max(a.pr, b.pr);
+  a.co = std::max(a.co, b.co);
+  a.pr_abs = std::max(a.pr_abs, b.pr_abs);
+  a.co_abs = std::max(a.co_abs, b.co_abs);
+  if (b.sd > a.sd) {
+    a.sd = b.sd;
+    a.isd = b.isd;
+  }
+  if (b.pc > a.pc) {
+    a.pc = b.pc;
+    a.ipc = b.ipc;
+    a.spc = b.spc;
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+void ActiveSetCore<Scalar, NV, NA>::store(const Scan& sc) {
+  pr_scale_ = sc.pscale + Scalar(1);
+  pr_ = sc.pr;
+  co_ = sc.co;
+  pr_abs_ = sc.pr_abs;
+  co_abs_ = sc.co_abs;
+  sd_ = sc.sd;
+  isd_ = sc.isd;
+  pc_ = sc.pc;
+  ipc_ = sc.ipc;
+  spc_ = sc.spc;
+}
+
+template <typename Scalar, int NV, int NA>
+void ActiveSetCore<Scalar, NV, NA>::scan_moved() {
+  // only the first presolved_ bounds moved since presolve()'s evaluate(): their pass, then the
+  // rest's as it kept it; the products, du_ and the scales are presolve()'s
+  Scan sc;
+  scan(sc, 0, presolved_);
+  merge(sc, pre_scan_);
+  store(sc);
+  exact_ = false;  // (a loop that may end here evaluates from scratch first)
 }
 
 template <typename Scalar, int NV, int NA>
@@ -758,6 +932,44 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
                      : (wj != State::inactive
                             ? wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j))
                             : -lam_a(j));
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+template <typename Backend>
+void ActiveSetCore<Scalar, NV, NA>::move_presolved_step(const Backend& be) {
+  if constexpr (PathProducts<Backend, Scalar, NV, NA> &&
+                requires { be.template solve_exact<false, true>(dx_, tmpa_, tmpv_, wa_); }) {
+    // The step is linear in the fixed steps: presolve()'s (dx_, dza_, dlam) plus the solve with
+    // them alone as right-hand side (v = 0, e = 0: InitialOnly), on the same factorization.
+    // hx_ = H x = 0 at x = 0 serves as its v and is zero again afterwards.
+    VecV& d = hx_;
+    d.setZero();
+    tmpa_.setZero();
+    be.template solve_exact<false, true>(d, tmpa_, tmpv_, wa_);
+    dx_ += d;
+    d.setZero();
+    // A dx on the path rows (the exact rows' is e, unchanged); the multiplier steps: the exact
+    // rows' and fixed variables' by the response, the weighted ones from the moved step (x = 0)
+    be.path_mul(dx_, dza_);
+    for (int i = 0; i < NV; ++i) {
+      const State wi = ws[i];
+      if (wi == State::inactive)
+        continue;
+      if (Backend::exact_bound(i))
+        dlam_x_(i) += tmpv_(i);
+      else
+        dlam_x_(i) = w_ * (dx_(i) - (wi == State::lower ? lbx(i) : ubx(i)));
+    }
+    for (int j = 0; j < NA; ++j) {
+      const State wj = ws[NV + j];
+      if (Backend::exact_row(j))
+        dlam_a_(j) += tmpa_(j);
+      else if (wj != State::inactive)
+        dlam_a_(j) = wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j));
+    }
+  } else {
+    compute_step(be);
   }
 }
 
@@ -1022,17 +1234,15 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
     sigma += y * b;
     bscale = std::max(bscale, std::abs(b) / rn);
   };
-  // the bounds, then the rows (no per-entry test of the kind); a zero entry (every constraint
-  // the step leaves alone) contributes nothing and is passed over first
+  // the bounds, then the rows, reading their arrays directly (no per-entry test of the kind);
+  // a zero entry (every constraint the step leaves alone) contributes nothing
   for (int i = 0; i < NV; ++i) {
-    if (dlam_x_(i) == 0)
-      continue;
-    const Scalar y = farkas_entry(i);
+    const Scalar y = farkas_entry(dlam_x_(i), lbx(i), ubx(i));
     if (y != 0)
       add(y, y > 0 ? ubx(i) : lbx(i), Scalar(1));
   }
   for (int j = 0; j < NA; ++j) {
-    const Scalar y = dlam_a_(j) == 0 ? Scalar(0) : farkas_entry(NV + j);
+    const Scalar y = farkas_entry(dlam_a_(j), lba(j), uba(j));
     tmpa_(j) = y;
     if (y != 0)
       add(y, y > 0 ? uba(j) : lba(j), rn_(j));
@@ -1048,7 +1258,7 @@ bool ActiveSetCore<Scalar, NV, NA>::farkas_step(const Backend& be, const QpSetti
   be.cons_tmul(tmpa_, tmpv_);
   Scalar e1 = 0;
   for (int i = 0; i < NV; ++i)
-    e1 += std::abs(tmpv_(i) + farkas_entry(i));
+    e1 += std::abs(tmpv_(i) + farkas_entry(dlam_x_(i), lbx(i), ubx(i)));
   return e1 / ny * (Scalar(1) + bscale) <= s.tol_certificate * -sigma;
 }
 

@@ -114,6 +114,35 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return this->conclude(read_terminal_vectors(p->terminal), true);
   }
 
+  /// Real-time iteration's preparation, beyond prefactorize(): also the first step of the next
+  /// solve_from_initial_state() from x = 0 (x is set to 0 here) with the current multipliers and
+  /// the vectors as read, for the initial state's bounds as they are (lbx_0 = ubx_0); the
+  /// feedback then adds that step's response to x_0's move (a forward Riccati sweep) instead of
+  /// evaluating and solving. Returns the blocks factorized, or -1 when nothing will be reused
+  /// (then solve_from_initial_state() is solve() from x = 0). setup(), update() and
+  /// update_vectors() discard it.
+  int presolve() {
+    if (!this->ready_)
+      return -1;
+    int stages = 0;
+    const bool ok = this->core_.presolve(this->be_, this->settings_, stages, NX);
+    return ok ? stages : -1;
+  }
+
+  /// The solve from x = 0 with x_0's bounds set to x0 (lbx_0 = ubx_0 = x0; in the solver's copy
+  /// of the vectors, the problem is not written) and the multipliers as warm start: after
+  /// presolve(), when the multipliers were not written since (a checksum of them is compared),
+  /// its first iteration reuses presolve()'s work; the same iterates as solve() to round-off.
+  /// For the feedback of real-time iteration, whose QP differs from the prepared one in x_0
+  /// only. Returns not_setup, non_finite (x0; nothing changed), or solve()'s status.
+  [[nodiscard]] QpStatus solve_from_initial_state(const Eigen::Matrix<Scalar, NX, 1>& x0) {
+    if (!this->ready_)
+      return QpStatus::not_setup;
+    if (!detail::all_finite(x0))
+      return QpStatus::non_finite;
+    return this->core_.solve_from(this->be_, this->settings_, this->info_, x0.data(), NX);
+  }
+
   /// Moves the primal and dual solution one stage earlier, for the warm start of the next
   /// sample: stage k receives what stage k+1 held (x_k, u_k, the multipliers of their bounds,
   /// of the dynamics row dyn_k and of gen_k). The last stage repeats: x_N, u_{N-1}, their bound

@@ -71,10 +71,12 @@ class ActiveSetSolver {
  protected:
   /// Ends a setup()/update(): the solver is ready exactly when st is accepted; the iterate is
   /// cold-started the first time, kept (warm start) afterwards; a prefactorization is discarded
-  /// unless only vectors were read (keep_factorization).
+  /// unless only vectors were read (keep_factorization); a presolve (OcpQpSolver::presolve()) is
+  /// discarded always.
   QpStatus conclude(QpStatus st, bool keep_factorization = false) {
     if (!keep_factorization)
       core_.discard_prefactorization();
+    core_.discard_presolve();  // (the vectors were re-read in any case)
     ready_ = st == QpStatus::accepted;
     if (ready_ && !initialized_)
       cold_start();
