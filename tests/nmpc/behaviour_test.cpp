@@ -291,15 +291,21 @@ TEST(NmpcRealTime, ShiftMovesThePlanAndKeepsOrMovesTheMultipliers) {
 }
 
 /// Closed loop: one full solve, then prepare / measure / feedback / apply / shift per sample.
+/// A twin controller without the presolved feedback (settings().presolve_feedback) sees the same
+/// measurements: the same statuses, QP iterations and, to round-off, controls.
 template <class Scalar>
 void closed_loop() {
   static auto p = nmpc_test::pendulum_problem<N>();
   using Ctrl = arbor::nmpc::Nmpc<decltype(p), Scalar>;
-  static Ctrl ctrl(p);
+  static Ctrl ctrl(p), twin(p);
   ctrl.settings().qp.max_iter = 5000;  // the first, cold QP from a constant guess
+  twin.settings().qp.max_iter = 5000;
+  twin.settings().presolve_feedback = false;
   using Vu = typename Ctrl::Vu;
   Eigen::Vector2d x(M_PI - 0.3, 0.2);  // the plant's state
   ASSERT_EQ(ctrl.set_initial_guess(Eigen::Vector2d(M_PI, 0).cast<Scalar>(), Vu::Zero()),
+            NmpcStatus::prepared);
+  ASSERT_EQ(twin.set_initial_guess(Eigen::Vector2d(M_PI, 0).cast<Scalar>(), Vu::Zero()),
             NmpcStatus::prepared);
   NmpcStatus st;
   {
@@ -307,7 +313,9 @@ void closed_loop() {
     st = ctrl.solve(x.cast<Scalar>());
   }
   ASSERT_EQ(st, NmpcStatus::converged) << ctrl.info().qp_status << " it " << ctrl.info().iterations;
+  ASSERT_EQ(twin.solve(x.cast<Scalar>()), NmpcStatus::converged);
   const double tol = std::is_same_v<Scalar, float> ? 1e-5 : 1e-10;
+  int presolved = 0;
   for (int t = 0; t < 80; ++t) {
     NmpcStatus prep, fb;
     Vu before;
@@ -318,6 +326,16 @@ void closed_loop() {
       before = ctrl.input(0);
       fb = ctrl.feedback(x.cast<Scalar>());  // after it
     }
+    presolved += ctrl.qp_solver().info().presolved;
+    twin.shift();
+    ASSERT_EQ(twin.prepare(), NmpcStatus::prepared);
+    ASSERT_EQ(twin.feedback(x.cast<Scalar>()), fb) << "sample " << t;
+    EXPECT_FALSE(twin.qp_solver().info().presolved);
+    EXPECT_EQ(twin.info().qp_iterations, ctrl.info().qp_iterations) << "sample " << t;
+    EXPECT_LE(
+        (twin.control() - ctrl.control()).cwiseAbs().maxCoeff(),
+        (std::is_same_v<Scalar, float> ? 1e-4 : 1e-9) * (1 + std::fabs(double(ctrl.control()[0]))))
+        << "sample " << t;
     ASSERT_EQ(prep, NmpcStatus::prepared) << "sample " << t;
     ASSERT_EQ(fb, NmpcStatus::step_taken) << "sample " << t;
     const Vu u = ctrl.control();
@@ -333,6 +351,7 @@ void closed_loop() {
   }
   EXPECT_NEAR(x[0], M_PI, 0.02);
   EXPECT_NEAR(x[1], 0.0, 0.05);
+  EXPECT_EQ(presolved, 80);  // every feedback took the presolved path
 }
 
 TEST(NmpcRealTime, ClosedLoopStabilisesDouble) {

@@ -44,6 +44,9 @@
 // belongs to the preparation (prepare() factorizes for the working set the feedback starts
 // from; feedback() re-reads the vectors and solves): the feedback is the QP's iterations only,
 // at most settings().feedback_qp_iterations of them (step_limited when that bound stops it).
+// With settings().presolve_feedback (the default) prepare() also computes the QP's first step
+// for the predicted x_0 (qp::OcpQpSolver::presolve) and feedback() moves it to the measured one
+// (solve_from_initial_state: one forward Riccati sweep), re-reading nothing.
 #pragma once
 
 #include <Eigen/Core>
@@ -293,8 +296,14 @@ class Nmpc {
     // the QP's matrices are final: its first factorization (for the working set the multipliers
     // name, which the feedback starts from) runs now, before the measurement; the feedback
     // re-reads only the vectors (qp::OcpQpSolver::update_vectors, prefactorize)
-    if (update_qp() == qp::QpStatus::accepted)
-      vectors_only_ = solver_.prefactorize() >= 0;
+    // (and, unless the feedback runs the interior-point cold start, the QP's first step for
+    // this x_0: the feedback moves it to the measured one, qp::OcpQpSolver::presolve)
+    if (update_qp() == qp::QpStatus::accepted) {
+      if (settings_.presolve_feedback && !cold_start_due())
+        presolved_ = vectors_only_ = solver_.presolve() >= 0;  // (x_0 moved by solve_from)
+      else
+        vectors_only_ = solver_.prefactorize() >= 0;
+    }
     prepared_ = true;
     return NmpcStatus::prepared;
   }
@@ -310,6 +319,7 @@ class Nmpc {
     prepared_ = false;
     embed(x0);
     const bool recovering = relax_violated_bounds(x0);
+    presolved_ = presolved_ && !recovering;  // (recovery re-reads the relaxed bounds)
     info_.iterations = 0;
     info_.qp_iterations = 0;
     // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
@@ -372,6 +382,7 @@ class Nmpc {
   [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
     vectors_only_ = false;  // new matrices: the QP reads everything again
+    presolved_ = false;
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
     int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
@@ -606,23 +617,37 @@ class Nmpc {
   /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve;
   /// the QP's status.
   qp::QpStatus solve_prepared_qp() {
-    const bool vectors = vectors_only_ && qp_setup_ && applied_qp_ == settings_.qp;
+    const bool fresh = qp_setup_ && applied_qp_ == settings_.qp;  // the QP as prepare() left it
+    const bool vectors = vectors_only_ && fresh;
+    const bool presolved = presolved_ && vectors;
     vectors_only_ = false;
+    presolved_ = false;
+    // the feedback's bound on the QP's iterations, else the settings' cap
+    const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
+    if (presolved) {  // only x_0's bounds changed since prepare(): its step, moved to them
+      solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
+      solver_.settings().last_iterate_at_cap = bounded;
+      return solver_.solve_from_initial_state(qp_.stage[0].lbx);
+    }
     const qp::QpStatus st = vectors ? solver_.update_vectors() : update_qp();
     if (st != qp::QpStatus::accepted)
       return st;
-    // the feedback's bound on the QP's iterations, else the settings' cap
-    const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
     solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
     solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
-    if (cold_start_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
-        (lam_rows().array() == Scalar(0)).all()) {
+    if (cold_start_due()) {
       // a cold start: the interior point, then the active set from its crossover point
       if (cold_start_(*this))
         return solver_.solve();
     }
     solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
     return solver_.solve();
+  }
+
+  /// Whether the next QP solve starts with the interior point (a workspace is set and every
+  /// multiplier is zero: nothing to warm-start from).
+  bool cold_start_due() const {
+    return cold_start_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
+           (lam_rows().array() == Scalar(0)).all();
   }
 
   /// The interior point on the QP from x = 0 and, when it ends at a crossover point, the active
@@ -763,6 +788,7 @@ class Nmpc {
   int qp_cap_ = 0;                 ///< feedback(): the bound on the QP's iterations (0: none)
   bool limited_ = false;           ///< the last QP stopped at that bound
   bool vectors_only_ = false;      ///< prepare() set up and prefactorized the QP: read its vectors
+  bool presolved_ = false;         ///< prepare() presolved the QP: the feedback moves x_0 only
   bool matrices_checked_ = false;  ///< linearize_as() found every QP matrix finite
   ColdStart* ipm_ = nullptr;       ///< the QP's interior-point cold start (caller's; nullptr: off)
   bool (*cold_start_)(Nmpc&) = nullptr;  ///< run_cold_start when ipm_ is set

@@ -107,6 +107,15 @@ struct NmpcSettings {
   /// finishes). The exact-Hessian controller's Gauss-Newton fallback solves a second QP under
   /// the same bound. solve() is not bounded by it.
   int feedback_qp_iterations = 0;
+  /// prepare() also computes the first step of the feedback's QP for the predicted x_0
+  /// (qp::OcpQpSolver::presolve), and feedback() adds its response to the measured one (a
+  /// forward Riccati sweep) instead of evaluating the QP's residuals and solving: less latency,
+  /// a little more work per sample (the contour task, bench/nmpc/RESULTS.md: feedback -23 % in
+  /// instructions, sample +2.4 % on the Cortex-M7, +3.9 % on the host; off where the
+  /// sample's total decides, e.g. a sampling rate at the edge of the CPU). The same iterates to
+  /// round-off. Not used for a sample whose feedback relaxes violated state bounds (recovery)
+  /// or starts the interior-point cold start: those solve as usual.
+  bool presolve_feedback = true;
   /// A proximal term on the inputs: mu added to the diagonal of every path stage's input Hessian
   /// (the nu input rows, not the slacks), so that each QP also minimises mu/2 |du|^2: a
   /// Levenberg-Marquardt damping of the step. Converged solutions stay where they are (du = 0
