@@ -60,6 +60,9 @@ struct Options {
   /// RTI: the feedback's QP stops after this many iterations and its step is taken anyway
   /// (NmpcSettings::feedback_qp_iterations; status step_limited); 0: no bound
   int feedback_qp_iter = 0;
+  /// RTI: the feedback's first QP step prepared in prepare() and moved to the measured state
+  /// (NmpcSettings::presolve_feedback): less latency, a little more work per sample
+  bool presolve = true;
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
@@ -302,6 +305,7 @@ class ContourLoop {
     if (options_.qp_max_iter > 0)
       set.qp.max_iter = options_.qp_max_iter;
     set.feedback_qp_iterations = options_.feedback_qp_iter;
+    set.presolve_feedback = options_.presolve;
     const auto keep = set;  // the first solve runs with the library's defaults
     set.max_iter = 100;
     st = ctrl_.solve(x0.cast<Scalar>());

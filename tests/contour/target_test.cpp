@@ -81,10 +81,14 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, Scalar, Timer>;
 #ifndef CONTOUR_FEEDBACK_ITER
 #define CONTOUR_FEEDBACK_ITER 0
 #endif
+#ifndef CONTOUR_PRESOLVE
+#define CONTOUR_PRESOLVE 1
+#endif
 Options make_options() {
   Options o;
   o.max_samples = kSamples;
   o.feedback_qp_iter = CONTOUR_FEEDBACK_ITER;  // (the build's ARBOR_CONTOUR_FEEDBACK_ITER)
+  o.presolve = CONTOUR_PRESOLVE != 0;          // (the build's ARBOR_CONTOUR_PRESOLVE)
   return o;
 }
 Loop g_loop(make_options());  // ~320 KB in double: static storage, not the stack
