@@ -94,14 +94,24 @@
 // constraint blocked (the iteration goes on: the blocking constraint enters or leaves next) they
 // are updated instead of recomputed, A x += tau A dx with the step's A dx, H x += tau H dx and
 // A' times the multipliers' change: one product with A fewer per such iteration (a product with H
-// and one with A' are left). They are computed from scratch at the start, after a full unblocked
-// step (the next evaluate() may end the loop), every kExactEvery steps, and whenever the loop
-// would end on updated ones (the test is repeated on products from scratch): every status and
-// every residual reported belongs to the returned point as computed from the data.
+// and one with A' are left). They are computed from scratch at the start (A x and H x are zero
+// at x = 0: not formed), after a full unblocked step (the next evaluate() may end the loop), every
+// kExactEvery steps, and whenever the loop would end on updated ones (the test is repeated on
+// products from scratch): every status and every residual reported belongs to the returned point
+// as computed from the data.
+// Presolved start (presolve(), solve_from(): the NMPC's feedback, whose QP differs from the
+// prepared one only in the targets of the first n bounds, fixed variables of the backend): the
+// preparation computes the products at x = 0, the first step and the residual pass over the
+// constraints after those n; the solve merges the n bounds' residuals into that pass
+// (scan_moved()) and adds to the step its response to the targets' move, one backend solve with
+// only those fixed steps as right-hand side (move_presolved_step()). The step is linear in its
+// right-hand side, so the iterates are solve()'s to round-off.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
-// the steps below in this order, each a member function: begin() once, then per iteration
-// evaluate(), settle_farkas() (the previous step's farkas_step()), converged_or_stopped(),
-// change_working_set(), refactorize(), compute_step(), ratio_test(), refine_step(),
+// the steps below in this order (iterate()), each a member function: begin() once, then per
+// iteration evaluate() (solve_from()'s first: scan_moved()), settle_farkas() (the previous step's
+// farkas_step()), a second evaluate() from scratch when the loop may end on updated products,
+// converged_or_stopped(), change_working_set(), refactorize(), compute_step() (solve_from()'s
+// first, when nothing changed: move_presolved_step()), ratio_test(), refine_step(),
 // singular_dual_step(), take_step(); finish() once.
 #pragma once
 
@@ -197,6 +207,7 @@ class ActiveSetCore {
       compute_step(be);
       presolved_ = n;
       pre_lam_ = lam_checksum();
+      pre_relative_ = s.relative_regularisation;
     } else {
       (void)n;
     }
@@ -215,6 +226,7 @@ class ActiveSetCore {
                                     SolveInfo<Scalar>& info, const Scalar* t, int n) {
     const bool use = presolved_ > 0 && presolved_ == n && prefactored_ && w_ == pre_w_ &&
                      w_ == h_ / s.reg_dual && delta_ == s.reg_primal &&
+                     s.relative_regularisation == pre_relative_ &&
                      x.cwiseAbs().sum() == Scalar(0) && lam_checksum() == pre_lam_;
     presolved_ = 0;
     if (!use) {
@@ -226,7 +238,6 @@ class ActiveSetCore {
     // presolve()'s begin() built the working set, the row weights and the factorization for
     // these multipliers: the loop starts without them; tmpv_ carries the fixed steps' move
     info = SolveInfo<Scalar>{};
-    info.presolved = true;
     prefactored_ = false;
     refactor_ = false;
     tmpv_.setZero();
@@ -274,10 +285,12 @@ class ActiveSetCore {
         status = QpStatus::non_convex;
         break;
       }
-      if (presolved && it == 0 && !changed && !refactor_)
+      if (presolved && it == 0 && !changed && !refactor_) {
         move_presolved_step(be);
-      else
+        info.presolved = true;
+      } else {
         compute_step(be);
+      }
       Scalar tau = ratio_test(s);
       if (tau == Scalar(1) && pending_ < 0 && refine_step(be, s))
         tau = ratio_test(s);
@@ -398,9 +411,11 @@ class ActiveSetCore {
   Scalar singular_dual_step(const QpSettings<Scalar>& s, Scalar tau, bool changed);
   /// The Farkas test of the last step's multiplier change (farkas_step(), counted in
   /// certificate_count_), made after the next evaluate() and only when that one does not end the
-  /// loop as `solved` (which reads no certificate): the one-iteration warm starts skip it. The
-  /// step's dlam is still in dlam_x_, dlam_a_, and pr_prev_ holds the primal error it was taken
-  /// from, so the count is the one a test right after the step would give.
+  /// loop as `solved` (which reads no certificate): the one-iteration warm starts skip it; nor
+  /// at the iteration cap (it) without a certificate before it, where one more could not make the
+  /// status `infeasible`. The step's dlam is still in dlam_x_, dlam_a_, and pr_prev_ holds the
+  /// primal error it was taken from, so the count is the one a test right after the step would
+  /// give.
   template <typename Backend>
   void settle_farkas(const Backend& be, const QpSettings<Scalar>& s, int it) {
     if (!farkas_pending_ || merit_of(s) <= 1)
@@ -494,6 +509,7 @@ class ActiveSetCore {
   Scan pre_scan_{};     ///< presolve()'s pass over the constraints after the moved bounds
   int presolved_ = 0;   ///< presolve() left the first step for this many targets
   std::array<Scalar, 2> pre_lam_{};  ///< lam_checksum() at presolve()
+  bool pre_relative_ = false;        ///< QpSettings::relative_regularisation at presolve()
 };
 
 template <typename Scalar, int NV, int NA>
@@ -518,6 +534,7 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   w_ = h_ / s.reg_dual;
   // a prefactorization (prefactorize()) of this very working set and weights is reused once,
   // with the row weights it computed (same matrices: same norms)
+  presolved_ = 0;  // a presolve belongs to the data and iterate it saw (presolve() sets it after)
   const bool reuse = prefactored_ && w_ == pre_w_ && ws == pre_ws_;
   prefactored_ = false;
   refactor_ = !reuse;
@@ -585,8 +602,8 @@ template <typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, int split) {
   if (exact) {
     // A x and H x vanish at x = 0 (the NMPC's QP starts every sample there): no product (the
-    // matrices are finite, update() checked them; a sum of magnitudes is 0 only when every
-    // entry is, NaN and infinities included)
+    // matrices are finite: update() checked them, or its caller, Finiteness::assumed; a sum of
+    // magnitudes is 0 only when every entry is, NaN and infinities included)
     if (x.cwiseAbs().sum() == Scalar(0)) {
       za_.setZero();
       hx_.setZero();

@@ -119,8 +119,9 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   /// the vectors as read, for the initial state's bounds as they are (lbx_0 = ubx_0); the
   /// feedback then adds that step's response to x_0's move (a forward Riccati sweep) instead of
   /// evaluating and solving. Returns the blocks factorized, or -1 when nothing will be reused
-  /// (then solve_from_initial_state() is solve() from x = 0). setup(), update() and
-  /// update_vectors() discard it.
+  /// (then solve_from_initial_state() is solve() from x = 0). setup(), update(),
+  /// update_vectors(), solve(), prefactorize(), shift() and the writable views x(), lam_x(),
+  /// lam_a() discard it.
   int presolve() {
     if (!this->ready_)
       return -1;
@@ -150,6 +151,7 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   /// since solve() rebuilds it from the multipliers' signs. Cost: one copy of the iterate.
   void shift() {
     auto& c = this->core_;
+    c.discard_presolve();
     shift_variables(c.x);
     shift_variables(c.lam_x);
     shift_rows(c.lam_a);

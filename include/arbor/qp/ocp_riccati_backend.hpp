@@ -21,6 +21,9 @@
 // L_k^-1 h_k; forward, from dx_0 = L_0^-T y_0: du_k = Luu^-T (y_u - Lxu' dx_k), the costate
 // dnu_{k-1} = Lxx_k (y_{x,k} - Lxx_k' dx_k), dx_{k+1} = F_k dw_k + e_k. ~NW^2 / 2 + NU NW + 4 NX NW
 // + 2 NX^2 multiply-adds per stage (1.8 k for the Kinova size; the penalised solve: 1.3 k).
+// Two variants skip what a known-zero right-hand side makes zero: ZeroRhs (e and the fixed steps
+// zero: refine_step()) and InitialOnly (only x_0's fixed steps nonzero: the presolved feedback's
+// response, active_set.hpp; the backward sweep of stages N..1 is skipped).
 // Measured (bench/qp/RESULTS.md, SSE2): factorization 559 k instructions for N = 16 (the
 // penalised one: 753 k), one solve_exact ~113 k with the four [A B] products per stage (Eigen's
 // gemv, ~46 % of it; the packed triangular products and solves the rest; the penalised solve

@@ -53,14 +53,25 @@ class ActiveSetSolver {
     return core_.prefactorize(be_, settings_, stages) ? stages : -1;
   }
 
+  // (the writable views discard a presolve, OcpQpSolver::presolve(): it belongs to the iterate
+  // it saw; a reference kept from before it is not watched, beyond a checksum of the multipliers)
   /// Flat primal iterate / solution (writable: a warm start).
-  VecV& x() { return core_.x; }
+  VecV& x() {
+    core_.discard_presolve();
+    return core_.x;
+  }
   const VecV& x() const { return core_.x; }
   /// Multipliers of the variable bounds (> 0: upper bound active, < 0: lower bound active).
-  VecV& lam_x() { return core_.lam_x; }
+  VecV& lam_x() {
+    core_.discard_presolve();
+    return core_.lam_x;
+  }
   const VecV& lam_x() const { return core_.lam_x; }
   /// Multipliers of the rows (same sign convention); stationarity: H x + g + lam_x + A' lam_a = 0.
-  VecA& lam_a() { return core_.lam_a; }
+  VecA& lam_a() {
+    core_.discard_presolve();
+    return core_.lam_a;
+  }
   const VecA& lam_a() const { return core_.lam_a; }
   /// Report of the last solve.
   const SolveInfo<Scalar>& info() const { return info_; }
