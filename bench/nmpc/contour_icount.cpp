@@ -44,10 +44,10 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, double, CallgrindT
 
 int main(int argc, char** argv) {
   Options o;
-  // [K] [--mismatch] [--noise SIGMA] [--no-presolve]: the feedback's bound on QP iterations
+  // [K] [--mismatch] [--noise SIGMA] [--presolve]: the feedback's bound on QP iterations
   // (NmpcSettings::feedback_qp_iterations; 0: none), the plant scenarios of examples/contour
   // (0.5 kg payload the controller does not know; measurement noise on q, 10x on qd) and the
-  // feedback without its prepared first step (NmpcSettings::presolve_feedback off)
+  // feedback with its prepared first step (NmpcSettings::presolve_feedback on)
   if (argc > 1)
     o.feedback_qp_iter = std::atoi(argv[1]);
   for (int i = 2; i < argc; ++i) {
@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
       o.mismatch = true;
     else if (a == "--noise" && i + 1 < argc)
       o.noise = std::atof(argv[++i]);
-    else if (a == "--no-presolve")
-      o.presolve = false;
+    else if (a == "--presolve")
+      o.presolve = true;
   }
   const auto loop = std::make_unique<Loop>(o);
   const auto st = loop->start();

@@ -13,9 +13,9 @@
 # ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound). FROZEN=1: OCP-FD's
 # RK4 with frozen sensitivities (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike).
 # GENERATED=1: the Gauss-Newton stages from generated code (ARBOR_CONTOUR_GENERATED_STAGE; the
-# host build generates the header the targets compile). PRESOLVE=0: the feedback without its
-# first QP step prepared in prepare() (ARBOR_CONTOUR_PRESOLVE=OFF; NmpcSettings::presolve_feedback,
-# on by default). TARGETS="cortex-m7" and FORMS="fd" run a subset (defaults: both targets, both
+# host build generates the header the targets compile). PRESOLVE=1: the feedback with its first
+# QP step prepared in prepare() (ARBOR_CONTOUR_PRESOLVE; NmpcSettings::presolve_feedback, off by
+# default as here). TARGETS="cortex-m7" and FORMS="fd" run a subset (defaults: both targets, both
 # formulations).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -26,8 +26,8 @@ frozen=OFF
 [[ ${FROZEN:-0} == 1 ]] && frozen=ON
 generated=OFF
 [[ ${GENERATED:-0} == 1 ]] && generated=ON
-presolve=ON
-[[ ${PRESOLVE:-1} == 0 ]] && presolve=OFF
+presolve=OFF
+[[ ${PRESOLVE:-0} == 1 ]] && presolve=ON
 forms="${FORMS:-fd id}"
 trap 'rm -rf "$tmp"' EXIT
 
@@ -105,7 +105,7 @@ done
   echo "Instructions = SysTick ticks x instructions per tick (calibrated on a loop of known length"
   echo "under -icount shift=0); host rows are microseconds of this machine (shared, noisy)."
   echo "Options: FEEDBACK_ITER=${FEEDBACK_ITER:-0}, FROZEN=${FROZEN:-0}," \
-    "GENERATED=${GENERATED:-0}, PRESOLVE=${PRESOLVE:-1}."
+    "GENERATED=${GENERATED:-0}, PRESOLVE=${PRESOLVE:-0}."
   echo
   echo "| where | OCP | scalar | phase | median | p95 | max | unit |"
   echo "|---|---|---|---|---:|---:|---:|---|"

@@ -61,8 +61,8 @@ struct Options {
   /// (NmpcSettings::feedback_qp_iterations; status step_limited); 0: no bound
   int feedback_qp_iter = 0;
   /// RTI: the feedback's first QP step prepared in prepare() and moved to the measured state
-  /// (NmpcSettings::presolve_feedback): less latency, a little more work per sample
-  bool presolve = true;
+  /// (NmpcSettings::presolve_feedback): less latency, more work per sample; off as the library's
+  bool presolve = false;
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;

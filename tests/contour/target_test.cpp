@@ -82,7 +82,7 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, Scalar, Timer>;
 #define CONTOUR_FEEDBACK_ITER 0
 #endif
 #ifndef CONTOUR_PRESOLVE
-#define CONTOUR_PRESOLVE 1
+#define CONTOUR_PRESOLVE 0
 #endif
 Options make_options() {
   Options o;

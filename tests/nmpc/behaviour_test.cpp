@@ -299,6 +299,7 @@ void closed_loop() {
   using Ctrl = arbor::nmpc::Nmpc<decltype(p), Scalar>;
   static Ctrl ctrl(p), twin(p);
   ctrl.settings().qp.max_iter = 5000;  // the first, cold QP from a constant guess
+  ctrl.settings().presolve_feedback = true;
   twin.settings().qp.max_iter = 5000;
   twin.settings().presolve_feedback = false;
   using Vu = typename Ctrl::Vu;

@@ -44,7 +44,7 @@
 // belongs to the preparation (prepare() factorizes for the working set the feedback starts
 // from; feedback() re-reads the vectors and solves): the feedback is the QP's iterations only,
 // at most settings().feedback_qp_iterations of them (step_limited when that bound stops it).
-// With settings().presolve_feedback (the default) prepare() also computes the QP's first step
+// With settings().presolve_feedback (off by default) prepare() also computes the QP's first step
 // for the predicted x_0 (qp::OcpQpSolver::presolve) and feedback() moves it to the measured one
 // (solve_from_initial_state: one forward Riccati sweep), re-reading nothing.
 #pragma once
