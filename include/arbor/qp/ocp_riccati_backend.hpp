@@ -520,11 +520,15 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
   }
 
   /// out = Lxx v, Lxx the trailing NX x NX block of the packed lower l (order n): four
-  /// columns at a time, the sums in a local array (no aliasing with l: vectorised over rows).
+  /// columns at a time, the sums in out (restrict: no aliasing with l or v, vectorised over
+  /// rows). (Not in a local array: GCC 12 at -O3 -march=native with AVX-512 over-aligned such a
+  /// leaf function's array for its vector stores and placed it 16 bytes off the 32-byte boundary
+  /// those stores need: a segfault at nx = 14, tests/qp's Issue35CrashSize in the AVX-512
+  /// builds, unseen before this suite ran on an AVX-512 machine.)
   template <int n>
-  static void l_mul_tail(const Scalar* l, const Scalar* v, Scalar* out) {
+  static void l_mul_tail(const Scalar* l, const Scalar* v, Scalar* __restrict out) {
     constexpr int o = n - NX;
-    Scalar acc[NX];
+    Scalar* acc = out;
     for (int r = 0; r < NX; ++r)
       acc[r] = 0;
     int i = 0;
@@ -547,8 +551,6 @@ struct OcpRiccatiBackend : OcpProducts<Scalar, N, NX, NU, NG, NGN> {
       for (int r = i; r < NX; ++r)
         acc[r] += c[r] * vi;
     }
-    for (int r = 0; r < NX; ++r)
-      out[r] = acc[r];
   }
 
   /// nu = Lxx (y_x - Lxx' dx), Lxx the trailing block of the packed lower l (order n).
