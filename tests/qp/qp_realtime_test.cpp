@@ -669,11 +669,18 @@ TEST(QpRealtime, DenseSolverFollowsTheSameRule) {
 // the changed data; multipliers written after presolve() (through the view, or through a
 // reference kept from before: the checksum), update_vectors(), update(), prefactorize() and
 // shift() make it an ordinary solve (info().presolved false), still the plain one's; zero
-// multipliers (a first iteration that may change the working set) too. On odd sizes: N = 1, 3,
-// 7, 13; nx = 1, 3, 7, 14; nu = 1, 2, 3, 13.
-/// Adds to changed how many of its solves changed the working set after the presolved step.
+// multipliers (a first iteration that may change the working set) and a multiplier of the wrong
+// sign (a first iteration that drops it: presolve() then keeps no step) too. State bounds of
+// stages 1..3 moved after presolve() (set_state_bounds(): the NMPC's recovery) keep it when the
+// working set holds (targets of working bounds and inactive bounds moved: the response to the
+// targets' move), and make it an ordinary solve when it does not (a working bound's side made
+// infinite). Uncapped, capped at 2 with the last iterate, and capped at 1 with the best one (whose
+// merit at x = 0 must count x_0's moved bounds). On odd sizes: N = 1, 3, 7, 13; nx = 1, 3, 7, 14;
+// nu = 1, 2, 3, 13.
+/// Adds to changed how many of its solves changed the working set after the presolved step, to
+/// moved how many kept the presolve after moving a working bound's target.
 template <typename P>
-void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
+void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved) {
   using S = OcpQpSolver<P>;
   constexpr int nx = P::nx;
   static P qp;
@@ -686,7 +693,8 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
     opt.bound_width = 0.3;
     t::random_ocp(qp, rng, opt);
     auto set = solver.settings();
-    set.max_iter = cap > 0 ? cap : 1000;
+    const int max_iter = cap != 0 ? std::abs(cap) : 1000;
+    set.max_iter = max_iter;
     set.last_iterate_at_cap = cap > 0;
     // a solution's multipliers as the warm start (the previous sample's)
     ASSERT_EQ(solver.setup(qp, set), QpStatus::accepted);
@@ -694,7 +702,7 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
     set.max_iter = 1000;
     solver.settings() = set;
     ASSERT_EQ(solver.solve(), QpStatus::solved);
-    set.max_iter = cap > 0 ? cap : 1000;
+    set.max_iter = max_iter;
     solver.settings() = set;
     const Eigen::VectorXd lx = solver.lam_x(), la = solver.lam_a();
     std::normal_distribution<double> nd(0.0, 0.05);
@@ -704,8 +712,10 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
     // 0: presolved; then what must make it an ordinary solve: 1 multipliers written, 2
     // update_vectors(), 3 update(), 4 prefactorize(), 5 shift(), 7 a reference to the
     // multipliers kept from before presolve() written through (the checksum); 6 zero multipliers
-    // (a first iteration that may change the working set: either path, the same iterates)
-    for (int variant = 0; variant < 8; ++variant) {
+    // (a first iteration that may change the working set: either path, the same iterates); 8
+    // state bounds of stages 1..3 moved, the working set kept; 9 one made infinite on its
+    // working side; 10 a working bound's multiplier flipped (its other side in the working set)
+    for (int variant = 0; variant < 11; ++variant) {
       SCOPED_TRACE("variant " + std::to_string(variant));
       // the plain solve of the changed data from x = 0 and the multipliers the solver will have
       static P changed_qp;
@@ -716,6 +726,30 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
       if (variant == 6) {
         lxs.setZero();
         las.setZero();
+      }
+      bool target_moved = false, side_removed = false, flipped = false;
+      const int last = std::min(3, P::horizon);
+      for (int k = 1; k <= last && (variant == 8 || variant == 9); ++k) {
+        auto& lb = k < P::horizon ? changed_qp.stage[k].lbx : changed_qp.terminal.lbx;
+        auto& ub = k < P::horizon ? changed_qp.stage[k].ubx : changed_qp.terminal.ubx;
+        for (int j = 0; j < nx; ++j) {
+          const double m = lxs(P::state_offset(k) + j);
+          if (variant == 9 && m > 0 && !side_removed && lb(j) < ub(j)) {
+            ub(j) = std::numeric_limits<double>::infinity();  // the working side gone
+            side_removed = true;
+          } else if (variant == 8 && m != 0 && lb(j) < ub(j)) {
+            (m > 0 ? ub(j) : lb(j)) += m > 0 ? 0.05 : -0.05;  // a working bound's target
+            target_moved = true;
+          } else if (variant == 8 && m == 0 && lb(j) < ub(j)) {
+            lb(j) -= 0.02;  // an inactive bound: its residual
+          }
+        }
+      }
+      for (int i = 0; i < P::nv && variant == 10 && !flipped; ++i) {
+        if (lxs(i) != 0 && i >= nx) {
+          lxs(i) = -lxs(i);
+          flipped = true;
+        }
       }
       ASSERT_EQ(plain.setup(changed_qp, set), QpStatus::accepted);
       plain.x().setZero();
@@ -750,14 +784,21 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
           solver.shift();
         if (variant == 7)
           kept *= 0.5;
+        for (int k = 1; k <= last && (variant == 8 || variant == 9); ++k) {
+          const auto& lb = k < P::horizon ? changed_qp.stage[k].lbx : changed_qp.terminal.lbx;
+          const auto& ub = k < P::horizon ? changed_qp.stage[k].ubx : changed_qp.terminal.ubx;
+          su = solver.set_state_bounds(k, lb, ub);
+        }
         st = solver.solve_from_initial_state(x0);
       }
       ASSERT_EQ(su, QpStatus::accepted);
       ASSERT_GE(pre, 0);
-      if (variant != 6) {
-        EXPECT_EQ(solver.info().presolved, variant == 0);
+      // (6, 8, 10: either path, by the working set the multipliers name)
+      if (variant != 6 && variant != 8 && variant != 10) {
+        EXPECT_EQ(solver.info().presolved, variant == 0 || (variant == 9 && !side_removed));
       }
       presolved += variant == 0 && solver.info().presolved;
+      moved += variant == 8 && target_moved && solver.info().presolved;
       EXPECT_EQ(st, st_plain);
       EXPECT_EQ(solver.info().iterations, plain.info().iterations);
       EXPECT_EQ(solver.info().active_set_changes, plain.info().active_set_changes);
@@ -785,15 +826,16 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed) {
 }
 
 TEST(QpRealtime, PresolvedFeedbackMatchesThePlainSolve) {
-  int changed = 0;
-  for (int cap : {0, 2}) {
-    check_presolved_feedback<Qp>(5, cap, changed);
-    check_presolved_feedback<OcpQp<double, 1, 3, 1, 1, 1>>(6, cap, changed);
-    check_presolved_feedback<OcpQp<double, 3, 7, 2, 1, 0>>(6, cap, changed);
-    check_presolved_feedback<OcpQp<double, 7, 1, 3, 0, 1>>(6, cap, changed);
-    check_presolved_feedback<OcpQp<double, 13, 14, 13, 2, 1>>(2, cap, changed);
+  int changed = 0, moved = 0;
+  for (int cap : {0, 2, -1}) {
+    check_presolved_feedback<Qp>(5, cap, changed, moved);
+    check_presolved_feedback<OcpQp<double, 1, 3, 1, 1, 1>>(6, cap, changed, moved);
+    check_presolved_feedback<OcpQp<double, 3, 7, 2, 1, 0>>(6, cap, changed, moved);
+    check_presolved_feedback<OcpQp<double, 7, 1, 3, 0, 1>>(6, cap, changed, moved);
+    check_presolved_feedback<OcpQp<double, 13, 14, 13, 2, 1>>(2, cap, changed, moved);
   }
   EXPECT_GT(changed, 20);  // working-set changes followed the presolved step
+  EXPECT_GT(moved, 20);    // moved working-bound targets kept the presolve
 }
 
 // solve_from_initial_state() checks its x0 (a non-finite one changes nothing) and needs an

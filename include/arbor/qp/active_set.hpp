@@ -96,7 +96,7 @@
 // A' times the multipliers' change: one product with A fewer per such iteration (a product with H
 // and one with A' are left). They are computed from scratch at the start (A x and H x are zero
 // at x = 0: not formed), after a full unblocked step (the next evaluate() may end the loop), every
-// kExactEvery steps, and whenever the loop would end on updated ones (the test is repeated on
+// kExactEvery steps, at the iteration cap, and whenever the loop would end on updated ones (the test is repeated on
 // products from scratch): every status and every residual reported belongs to the returned point
 // as computed from the data.
 // Presolved start (presolve(), solve_from(): the NMPC's feedback, whose QP differs from the
@@ -105,7 +105,10 @@
 // constraints after those n; the solve merges the n bounds' residuals into that pass
 // (scan_moved()) and adds to the step its response to the targets' move, one backend solve with
 // only those fixed steps as right-hand side (move_presolved_step()). The step is linear in its
-// right-hand side, so the iterates are solve()'s to round-off.
+// right-hand side, so the iterates are solve()'s to round-off. A first iteration that changes
+// the working set (known at presolve(): not from the targets) computes its own step; bounds
+// moved after presolve() (move_bound(): the NMPC's recovery) keep it while the working set holds,
+// with the whole pass again and the moved working targets' response in the same solve.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
 // the steps below in this order (iterate()), each a member function: begin() once, then per
 // iteration evaluate() (solve_from()'s first: scan_moved()), settle_farkas() (the previous step's
@@ -204,7 +207,15 @@ class ActiveSetCore {
           return true;  // the targets' move would not be a step of fixed variables
       }
       evaluate(be, true, n);  // (A x = 0, H x = 0: r = g + lam_x + A' lam)
-      compute_step(be);
+      // the first iteration's working-set change does not depend on the n targets (x = 0, and
+      // their bounds are equalities, which add and drop nothing): when it will make one, that
+      // iteration computes its own step and the pass alone is kept
+      State side;
+      pre_step_ = due_change(s, side) < 0;
+      if (pre_step_)
+        compute_step<true>(be);
+      pre_rescan_ = false;
+      pre_targets_ = false;
       presolved_ = n;
       pre_lam_ = lam_checksum();
       pre_relative_ = s.relative_regularisation;
@@ -228,6 +239,7 @@ class ActiveSetCore {
                      w_ == h_ / s.reg_dual && delta_ == s.reg_primal &&
                      s.relative_regularisation == pre_relative_ &&
                      x.cwiseAbs().sum() == Scalar(0) && lam_checksum() == pre_lam_;
+    pre_n_ = presolved_;  // (scan_moved() passes over these)
     presolved_ = 0;
     if (!use) {
       for (int i = 0; i < n; ++i)
@@ -249,6 +261,38 @@ class ActiveSetCore {
     return iterate(be, s, info, true);
   }
 
+  /// Sets the bounds of variable i (lo <= hi, not NaN: the caller checks) and keeps a presolve
+  /// when the working set begin() would build from the multipliers with the new bounds is the
+  /// one presolve() factorized (i is not one of its n targets; an equality stays one with the
+  /// same target, a one-sided active bound keeps that side finite) and the bound is not one the
+  /// backend holds exactly: solve_from() then passes over every constraint again and, when the
+  /// target of a working bound moved, adds the step's response to that move to the one of the n
+  /// targets (one full backend solve instead of the InitialOnly one). Otherwise the presolve is
+  /// discarded. For the NMPC's recovery, which relaxes state bounds after its preparation.
+  template <ActiveSetBackend<Scalar, NV, NA> Backend>
+  void move_bound(int i, Scalar lo, Scalar hi) {
+    const Scalar l0 = lbx(i), u0 = ubx(i);
+    lbx(i) = lo;
+    ubx(i) = hi;
+    if (presolved_ == 0 || (lo == l0 && hi == u0))
+      return;
+    const State wi = ws[i];
+    bool keep = i >= presolved_ && (l0 == u0) == (lo == hi) && (wi != State::upper || hi < inf()) &&
+                (wi != State::lower || lo > -inf());
+    if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>)
+      keep = keep && (wi == State::inactive || !Backend::exact_bound(i));
+    if (!keep) {
+      presolved_ = 0;
+      return;
+    }
+    pre_rescan_ = true;
+    const Scalar d = wi == State::upper ? hi - u0 : lo - l0;  // (an equality moves both)
+    if (wi != State::inactive && d != 0 && pre_step_) {
+      dlam_x_(i) += d;  // the pending target move, in the entry the moved step recomputes
+      pre_targets_ = true;
+    }
+  }
+
   /// Runs the method from the current (x, lam); fills info; returns the status.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
   [[nodiscard]] QpStatus solve(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info) {
@@ -268,10 +312,12 @@ class ActiveSetCore {
       // presolved: the products at x = 0 are presolve()'s and only the first bounds moved:
       // their residuals merged with presolve()'s pass over the rest (not exact_: a loop that
       // may end here judges products from scratch, below)
+      // (at the iteration cap the loop ends here: the products from scratch at once, which it
+      // would compute below anyway to judge the last iterate)
       if (presolved && it == 0)
         scan_moved();
       else
-        evaluate(be, exact_next_);
+        evaluate(be, exact_next_ || it >= s.max_iter);
       settle_farkas(be, s, it);
       if (!exact_ && may_stop(s, it)) {
         evaluate(be, true);  // a loop that ends judges (and reports) products from scratch
@@ -285,7 +331,7 @@ class ActiveSetCore {
         status = QpStatus::non_convex;
         break;
       }
-      if (presolved && it == 0 && !changed && !refactor_) {
+      if (presolved && it == 0 && !changed && !refactor_ && pre_step_) {
         move_presolved_step(be);
         info.presolved = true;
       } else {
@@ -372,8 +418,11 @@ class ActiveSetCore {
   static void merge(Scan& a, const Scan& b);
   /// The residual members from a finished pass.
   void store(const Scan& sc);
-  /// evaluate() after presolve() when only the first presolved_ bounds moved (solve_from()).
+  /// evaluate() after presolve() when only the first pre_n_ bounds moved (solve_from()), or
+  /// bounds after them too (move_bound(): the whole pass again).
   void scan_moved();
+  /// The change change_working_set() would make now (-1: none) and the constraint's next state.
+  int due_change(const QpSettings<Scalar>& s, State& side) const;
   /// True when converged_or_stopped() might end the loop (a conservative test, no side effects).
   bool may_stop(const QpSettings<Scalar>& s, int it) const {
     return !std::isfinite(pr_) || !std::isfinite(du_) || merit_of(s) <= 1 || unbounded_candidate_ ||
@@ -388,9 +437,13 @@ class ActiveSetCore {
   template <typename Backend>
   bool refactorize(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info);
   /// (dx, dz, dlam): the step to the regularised equality-constrained QP of the working set.
-  template <typename Backend>
+  /// Presolve (presolve()): only what move_presolved_step() does not recompute (no A dx on the
+  /// path rows, no multiplier steps of the weighted constraints: those of the working bounds are
+  /// zero, move_bound() adds its target moves there).
+  template <bool Presolve = false, typename Backend>
   void compute_step(const Backend& be);
-  /// presolve()'s step plus its response to the fixed steps' move in tmpv_ (solve_from()).
+  /// presolve()'s step plus its response to the fixed steps' move in tmpv_ and to the working
+  /// bounds' target moves move_bound() left in dlam_x_ (solve_from()).
   template <typename Backend>
   void move_presolved_step(const Backend& be);
   /// Two sums of the multipliers (values, magnitudes): whether presolve()'s still hold.
@@ -505,9 +558,13 @@ class ActiveSetCore {
   bool prefactored_ = false;  ///< prefactorize() left a factorization to reuse
   std::array<ConstraintState, nz> pre_ws_{};  ///< the working set it factorized
   Scalar pre_w_ = 0;                          ///< the bound weight it used
-  bool finite_ = true;  ///< every entry the last evaluate()'s pass read was finite
-  Scan pre_scan_{};     ///< presolve()'s pass over the constraints after the moved bounds
-  int presolved_ = 0;   ///< presolve() left the first step for this many targets
+  bool finite_ = true;        ///< every entry the last evaluate()'s pass read was finite
+  Scan pre_scan_{};           ///< presolve()'s pass over the constraints after the moved bounds
+  int presolved_ = 0;         ///< presolve() left the first step for this many targets
+  int pre_n_ = 0;             ///< solve_from()'s moved targets (its first pass)
+  bool pre_step_ = false;     ///< presolve() computed the first step (no change due first)
+  bool pre_rescan_ = false;   ///< move_bound() moved bounds after the targets: the whole pass
+  bool pre_targets_ = false;  ///< ... and targets of working bounds (in dlam_x_)
   std::array<Scalar, 2> pre_lam_{};  ///< lam_checksum() at presolve()
   bool pre_relative_ = false;        ///< QpSettings::relative_regularisation at presolve()
 };
@@ -756,11 +813,16 @@ void ActiveSetCore<Scalar, NV, NA>::store(const Scan& sc) {
 
 template <typename Scalar, int NV, int NA>
 void ActiveSetCore<Scalar, NV, NA>::scan_moved() {
-  // only the first presolved_ bounds moved since presolve()'s evaluate(): their pass, then the
-  // rest's as it kept it; the products, du_ and the scales are presolve()'s
+  // only the first pre_n_ bounds moved since presolve()'s evaluate(): their pass, then the
+  // rest's as it kept it (or all of it again after move_bound()); the products, du_ and the
+  // scales are presolve()'s
   Scan sc;
-  scan(sc, 0, presolved_);
-  merge(sc, pre_scan_);
+  if (pre_rescan_) {
+    scan(sc, 0, nz);
+  } else {
+    scan(sc, 0, pre_n_);
+    merge(sc, pre_scan_);
+  }
   store(sc);
   exact_ = false;  // (a loop that may end here evaluates from scratch first)
 }
@@ -812,24 +874,11 @@ template <typename Scalar, int NV, int NA>
 template <typename Backend>
 bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSettings<Scalar>& s,
                                                        SolveInfo<Scalar>& info) {
-  // a pending change from the last ratio test, else the most violated constraint when the
-  // primal error dominates, else the multiplier of the most wrong sign
-  int change = -1;
-  State change_ws = State::inactive;
-  if (pending_ >= 0) {
-    change = pending_;
-    change_ws = pending_ws_;
-  } else if (ipc_ >= 0 && !warm_first_ && pc_ > s.tol_primal * pr_scale_ &&
-             pc_ / (s.tol_primal * pr_scale_) >= sd_ / drop_threshold(s)) {
-    change = ipc_;
-    change_ws = spc_;
-  } else if (isd_ >= 0 && sd_ > drop_threshold(s)) {
-    change = isd_;
-    change_ws = State::inactive;
-  }
+  State change_ws;
+  const int change = due_change(s, change_ws);
   pending_ = -1;
   warm_first_ = false;
-  if (change < 0 || ws[change] == change_ws || ws[change] == State::equality)
+  if (change < 0)
     return false;
   ws[change] = change_ws;
   const Scalar m = lam(change);
@@ -848,6 +897,27 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
   refactor_ = true;
   ++info.active_set_changes;
   return true;
+}
+
+template <typename Scalar, int NV, int NA>
+int ActiveSetCore<Scalar, NV, NA>::due_change(const QpSettings<Scalar>& s, State& side) const {
+  // a pending change from the last ratio test, else the most violated constraint when the
+  // primal error dominates, else the multiplier of the most wrong sign
+  int change = -1;
+  side = State::inactive;
+  if (pending_ >= 0) {
+    change = pending_;
+    side = pending_ws_;
+  } else if (ipc_ >= 0 && !warm_first_ && pc_ > s.tol_primal * pr_scale_ &&
+             pc_ / (s.tol_primal * pr_scale_) >= sd_ / drop_threshold(s)) {
+    change = ipc_;
+    side = spc_;
+  } else if (isd_ >= 0 && sd_ > drop_threshold(s)) {
+    change = isd_;
+  }
+  if (change < 0 || ws[change] == side || ws[change] == State::equality)
+    return -1;
+  return change;
 }
 
 template <typename Scalar, int NV, int NA>
@@ -877,7 +947,7 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
 }
 
 template <typename Scalar, int NV, int NA>
-template <typename Backend>
+template <bool Presolve, typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
   // rows the backend solves exactly (ExactRowBackend: the OCP's dynamics) take no weight
   const auto exact = [](int j) {
@@ -925,7 +995,8 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
           dza_(j) = tmpa_(j);
       }
       be.solve_exact(dx_, tmpa_, tmpv_, wa_);
-      be.path_mul(dx_, dza_);
+      if constexpr (!Presolve)
+        be.path_mul(dx_, dza_);
     } else {
       be.solve_exact(dx_, tmpa_, tmpv_, wa_);
       be.cons_mul(dx_, dza_);
@@ -933,6 +1004,14 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
   } else {
     be.solve(dx_);
     be.cons_mul(dx_, dza_);
+  }
+  if constexpr (Presolve) {
+    // (move_presolved_step() recomputes the weighted ones from the moved step)
+    for (int i = 0; i < NV; ++i)
+      dlam_x_(i) = ws[i] == State::inactive ? -lam_x(i) : (exact_bound(i) ? tmpv_(i) : 0);
+    for (int j = 0; j < NA; ++j)
+      dlam_a_(j) = exact(j) ? tmpa_(j) : (ws[NV + j] != State::inactive ? 0 : -lam_a(j));
+    return;
   }
   for (int i = 0; i < NV; ++i) {
     const State wi = ws[i];
@@ -963,7 +1042,16 @@ void ActiveSetCore<Scalar, NV, NA>::move_presolved_step(const Backend& be) {
     VecV& d = hx_;
     d.setZero();
     tmpa_.setZero();
-    be.template solve_exact<false, true>(d, tmpa_, tmpv_, wa_);
+    if (pre_targets_) {
+      // and the working bounds' target moves (move_bound()): v = w t there, a full solve
+      for (int i = 0; i < NV; ++i) {
+        if (ws[i] != State::inactive && !Backend::exact_bound(i))
+          d(i) = w_ * dlam_x_(i);
+      }
+      be.template solve_exact<false, false>(d, tmpa_, tmpv_, wa_);
+    } else {
+      be.template solve_exact<false, true>(d, tmpa_, tmpv_, wa_);
+    }
     dx_ += d;
     d.setZero();
     // A dx on the path rows (the exact rows' is e, unchanged); the multiplier steps: the exact

@@ -144,6 +144,25 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return this->core_.solve_from(this->be_, this->settings_, this->info_, x0.data(), NX);
   }
 
+  /// Sets the state bounds of stage k (1 <= k <= N; N: the terminal's) in the solver's copy of
+  /// the vectors (the problem is not written; the next update() or update_vectors() reads its
+  /// own again): for the real-time feedback's recovery, which relaxes state bounds the measured
+  /// x_0 cannot meet after presolve(). A presolve is kept when the working set it factorized is
+  /// still the one the multipliers name for the new bounds (ActiveSetCore::move_bound(): the
+  /// first iteration then passes over every constraint again, and adds the response to a moved
+  /// working bound's target with one full solve), otherwise discarded. Returns accepted, or
+  /// non_finite / invalid_bounds (NaN, lb > ub, lb = +inf, ub = -inf: nothing changed).
+  [[nodiscard]] QpStatus set_state_bounds(int k, const Eigen::Matrix<Scalar, NX, 1>& lb,
+                                          const Eigen::Matrix<Scalar, NX, 1>& ub) {
+    ARBOR_ASSERT(k >= 1 && k <= N, "state bounds of stages 1..N (x_0's: solve_from_initial_state)");
+    if (const QpStatus c = detail::check_bounds(lb, ub); c != QpStatus::accepted)
+      return c;
+    const int o = Problem::state_offset(k);
+    for (int i = 0; i < NX; ++i)
+      this->core_.template move_bound<Backend>(o + i, lb(i), ub(i));
+    return QpStatus::accepted;
+  }
+
   /// Moves the primal and dual solution one stage earlier, for the warm start of the next
   /// sample: stage k receives what stage k+1 held (x_k, u_k, the multipliers of their bounds,
   /// of the dynamics row dyn_k and of gen_k). The last stage repeats: x_N, u_{N-1}, their bound
