@@ -44,10 +44,10 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, double, CallgrindT
 
 int main(int argc, char** argv) {
   Options o;
-  // [K] [--mismatch] [--noise SIGMA] [--presolve]: the feedback's bound on QP iterations
+  // [K] [--mismatch] [--noise SIGMA] [--no-presolve]: the feedback's bound on QP iterations
   // (NmpcSettings::feedback_qp_iterations; 0: none), the plant scenarios of examples/contour
   // (0.5 kg payload the controller does not know; measurement noise on q, 10x on qd) and the
-  // feedback with its prepared first step (NmpcSettings::presolve_feedback on)
+  // feedback computing its first step itself (NmpcSettings::presolve_feedback off; on by default)
   if (argc > 1)
     o.feedback_qp_iter = std::atoi(argv[1]);
   for (int i = 2; i < argc; ++i) {
@@ -56,8 +56,10 @@ int main(int argc, char** argv) {
       o.mismatch = true;
     else if (a == "--noise" && i + 1 < argc)
       o.noise = std::atof(argv[++i]);
-    else if (a == "--presolve")
+    else if (a == "--presolve")  // (the default)
       o.presolve = true;
+    else if (a == "--no-presolve")
+      o.presolve = false;
   }
   const auto loop = std::make_unique<Loop>(o);
   const auto st = loop->start();
@@ -75,8 +77,8 @@ int main(int argc, char** argv) {
     failed += !arbor::nmpc::succeeded(r.status);
     limited += r.status == arbor::nmpc::NmpcStatus::step_limited;
     e_max = r.e_p > e_max ? r.e_p : e_max;
-    std::printf("sample %d qp_iterations %d e_p %.6g s %.6g\n", n - 1, r.qp_iterations, r.e_p,
-                r.x[14]);
+    std::printf("sample %d qp_iterations %d e_p %.6g s %.6g %s%s\n", n - 1, r.qp_iterations, r.e_p,
+                r.x[14], arbor::nmpc::to_string(r.status), r.qp_presolved ? " presolved" : "");
   }
   std::printf(
       "samples %d failed %d step_limited %d max e_p %.3f mm (tunnel %.1f mm) %s, stages: "

@@ -10,7 +10,8 @@
 # FEEDBACK_ITER=K bounds the feedback's QP to K active-set iterations
 # (NmpcSettings::feedback_qp_iterations; default: no bound). FORMS="fd" runs one formulation.
 # SCENARIO="--mismatch" and/or "--noise SIGMA": the example's plant scenarios (unknown 0.5 kg
-# payload; measurement noise). FROZEN=1: OCP-FD's RK4 with frozen sensitivities
+# payload; measurement noise), "--no-presolve" the feedback without its prepared first step
+# (NmpcSettings::presolve_feedback off). FROZEN=1: OCP-FD's RK4 with frozen sensitivities
 # (ocp::Sensitivity::frozen; configures the build folder with ARBOR_CONTOUR_FROZEN_SENSITIVITY).
 # GENERATED=1: the Gauss-Newton stages from generated code (ocp/generated_stage.hpp; configures
 # ARBOR_CONTOUR_GENERATED_STAGE).

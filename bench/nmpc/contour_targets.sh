@@ -13,8 +13,8 @@
 # ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound). FROZEN=1: OCP-FD's
 # RK4 with frozen sensitivities (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike).
 # GENERATED=1: the Gauss-Newton stages from generated code (ARBOR_CONTOUR_GENERATED_STAGE; the
-# host build generates the header the targets compile). PRESOLVE=1: the feedback with its first
-# QP step prepared in prepare() (ARBOR_CONTOUR_PRESOLVE; NmpcSettings::presolve_feedback, off by
+# host build generates the header the targets compile). PRESOLVE=0: the feedback computes its
+# first QP step itself (ARBOR_CONTOUR_PRESOLVE OFF; NmpcSettings::presolve_feedback, on by
 # default as here). TARGETS="cortex-m7" and FORMS="fd" run a subset (defaults: both targets, both
 # formulations).
 set -euo pipefail
@@ -26,8 +26,8 @@ frozen=OFF
 [[ ${FROZEN:-0} == 1 ]] && frozen=ON
 generated=OFF
 [[ ${GENERATED:-0} == 1 ]] && generated=ON
-presolve=OFF
-[[ ${PRESOLVE:-0} == 1 ]] && presolve=ON
+presolve=ON
+[[ ${PRESOLVE:-1} == 0 ]] && presolve=OFF
 forms="${FORMS:-fd id}"
 trap 'rm -rf "$tmp"' EXIT
 

@@ -61,8 +61,8 @@ struct Options {
   /// (NmpcSettings::feedback_qp_iterations; status step_limited); 0: no bound
   int feedback_qp_iter = 0;
   /// RTI: the feedback's first QP step prepared in prepare() and moved to the measured state
-  /// (NmpcSettings::presolve_feedback): less latency, more work per sample; off as the library's
-  bool presolve = false;
+  /// (NmpcSettings::presolve_feedback): less latency, more work per sample; on as the library's
+  bool presolve = true;
   /// QP tolerances in real-time iteration (0: the library's; its 1e-10 default for the SQP is
   /// not reached from the warm start on this problem: iteration limits, see README)
   double qp_tol = 1e-8;
@@ -127,6 +127,7 @@ struct Record {
   double prepare_us = 0, feedback_us = 0;  ///< controller time in the Timer's unit (SteadyTimer:
                                            ///< us; SQP mode: solve in feedback)
   int sqp_iterations = 0, qp_iterations = 0;
+  bool qp_presolved = false;  ///< the feedback took its prepared first step (NmpcInfo)
   arbor::nmpc::NmpcStatus status = arbor::nmpc::NmpcStatus::step_taken;
   arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
   bool hold = false;                                  ///< the sample ran in the start phase
@@ -415,6 +416,7 @@ class ContourLoop {
     rec.qp_iterations = ctrl_.info().qp_iterations;
     rec.status = st;
     rec.qp_status = ctrl_.info().qp_status;
+    rec.qp_presolved = ctrl_.info().qp_presolved;
     rec.d_hat = obs_.estimate();
   }
 

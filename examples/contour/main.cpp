@@ -93,8 +93,9 @@ void usage(const char* argv0) {
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
       "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
       "  --feedback-iter K RTI: bound the feedback's QP to K iterations, its step taken anyway\n"
-      "  --presolve        RTI: the feedback's first QP step prepared in prepare() and moved to\n"
-      "                    the measured state (less latency, more work per sample)\n"
+      "  --no-presolve     RTI: the feedback computes its first QP step itself instead of moving\n"
+      "                    the one prepare() computed (the library's default; more latency, less\n"
+      "                    work per sample)\n"
       "  --shift-multipliers  shift() moves the multipliers with the plan (the QP's warm start\n"
       "                    one stage earlier; default: kept in place, see README)\n"
       "  --observer        generalized-momentum observer (arbor/nmpc/momentum_observer.hpp): the\n"
@@ -254,8 +255,10 @@ int main(int argc, char** argv) {
       o.qp_max_iter = std::atoi(value("a number"));
     } else if (a == "--feedback-iter") {
       o.feedback_qp_iter = std::atoi(value("a number"));
-    } else if (a == "--presolve") {
+    } else if (a == "--presolve") {  // (the default; kept for scripts that name it)
       o.presolve = true;
+    } else if (a == "--no-presolve") {
+      o.presolve = false;
     } else if (a == "--shift-multipliers") {
       o.shift_multipliers = true;
     } else if (a == "--observer") {

@@ -44,9 +44,10 @@
 // belongs to the preparation (prepare() factorizes for the working set the feedback starts
 // from; feedback() re-reads the vectors and solves): the feedback is the QP's iterations only,
 // at most settings().feedback_qp_iterations of them (step_limited when that bound stops it).
-// With settings().presolve_feedback (off by default) prepare() also computes the QP's first step
+// With settings().presolve_feedback (on by default) prepare() also computes the QP's first step
 // for the predicted x_0 (qp::OcpQpSolver::presolve) and feedback() moves it to the measured one
-// (solve_from_initial_state: one forward Riccati sweep), re-reading nothing.
+// (solve_from_initial_state: one forward Riccati sweep), re-reading nothing; a recovery moves
+// the relaxed state bounds into the QP's copy (qp::OcpQpSolver::set_state_bounds).
 #pragma once
 
 #include <Eigen/Core>
@@ -319,7 +320,6 @@ class Nmpc {
     prepared_ = false;
     embed(x0);
     const bool recovering = relax_violated_bounds(x0);
-    presolved_ = presolved_ && !recovering;  // (recovery re-reads the relaxed bounds)
     info_.iterations = 0;
     info_.qp_iterations = 0;
     // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
@@ -518,6 +518,9 @@ class Nmpc {
         if (under[j] > settings_.tol_primal)
           lb[j] = std::fmin(lb[j], lbx_[i][j] - frac * under[j] - x_[i][j]);
       }
+      // a presolved QP takes them into its own copy (kept when its working set still holds)
+      if (presolved_ && solver_.set_state_bounds(k, lb, ub) != qp::QpStatus::accepted)
+        presolved_ = false;
     }
     return true;
   }
@@ -664,6 +667,7 @@ class Nmpc {
   /// Records a QP solve; step_taken when it gave a finite solution, else qp_failed.
   NmpcStatus finish_qp(qp::QpStatus st) {
     info_.qp_status = st;
+    info_.qp_presolved = solver_.info().presolved;
     info_.qp_iterations += solver_.info().iterations;
     ++info_.iterations;
     // a stall (or the cap) at the scalar's round-off floor, near the tolerances: the step is

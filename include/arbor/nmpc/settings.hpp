@@ -110,15 +110,16 @@ struct NmpcSettings {
   /// prepare() also computes the first step of the feedback's QP for the predicted x_0
   /// (qp::OcpQpSolver::presolve), and feedback() adds its response to the measured one (a
   /// forward Riccati sweep) instead of evaluating the QP's residuals and solving: less latency,
-  /// more work per sample. The same iterates to round-off. A sample whose feedback relaxes
-  /// violated state bounds (recovery) or starts the interior-point cold start solves as usual,
-  /// and pays the preparation's extra work on top. On the contour task (bench/nmpc/RESULTS.md):
-  /// the feedback -23 % in instructions (33 us instead of 46 us on the host), the sample +3.9 %
-  /// on the host and +2.4 % on the Cortex-M7, and with the unknown payload, whose recovery
-  /// samples pay both, the worst sample 1.34x the median instead of 1.24x. Off by default (the
-  /// worst case and the sample's total are what a sampling rate is signed off on); on where the
-  /// latency from measurement to control decides.
-  bool presolve_feedback = false;
+  /// more work per sample. The same iterates to round-off. A recovery (relaxed state bounds)
+  /// moves the relaxed bounds into the prepared QP (qp::OcpQpSolver::set_state_bounds) and keeps
+  /// it while its working set holds; a feedback that starts the interior-point cold start, or
+  /// after a change of settings().qp, solves as without it. On the contour task
+  /// (bench/nmpc/RESULTS.md, instructions): the feedback -23 % on the host (33 us instead of
+  /// ~45 us) and -22 % on the Cortex-M7, the sample +3.8 % and +2.2 %; the worst sample 1.15x,
+  /// 1.23x (unknown payload) and 1.19x (noise) the median (1.16x, 1.21x, 1.19x without it). On
+  /// by default (the latency from measurement to control is the feedback's); off where the
+  /// sample's total alone decides.
+  bool presolve_feedback = true;
   /// A proximal term on the inputs: mu added to the diagonal of every path stage's input Hessian
   /// (the nu input rows, not the slacks), so that each QP also minimises mu/2 |du|^2: a
   /// Levenberg-Marquardt damping of the step. Converged solutions stay where they are (du = 0

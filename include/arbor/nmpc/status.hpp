@@ -102,6 +102,10 @@ struct NmpcInfo {
   Scalar qp_merit = 0;
   /// interior-point iterations of the QP cold starts of the call (Nmpc::set_cold_start_workspace)
   int qp_ipm_iterations = 0;
+  /// the feedback's QP took the first step prepare() computed (NmpcSettings::presolve_feedback;
+  /// qp::SolveInfo::presolved): false when it could not (the working set changed in its first
+  /// iteration, the QP's settings changed, a cold start ran) or the option is off
+  bool qp_presolved = false;
 };
 
 }  // namespace arbor::nmpc
