@@ -93,8 +93,18 @@ TEST(NmpcRecovery, StateOutsideItsBoundIsBroughtBack) {
   EXPECT_LT(ctrl.state(1)[1], x0[1]);                          // it decelerates at once
   EXPECT_NEAR(ctrl.control()[0], -PendulumData::u_max, 1e-7);  // as hard as it can
 
-  // closed loop (real-time iteration): inside again within K + 1 samples, then step_taken
+  // closed loop (real-time iteration): inside again within K + 1 samples, then step_taken; the
+  // recovering feedbacks keep the presolved QP (settings().presolve_feedback, the default): a
+  // twin controller without it sees the same measurements and takes the same steps
+  static arbor::nmpc::Nmpc<Bounded> twin(p);
+  twin.settings() = ctrl.settings();
+  twin.settings().presolve_feedback = false;
+  ASSERT_TRUE(ctrl.settings().presolve_feedback);
+  ASSERT_EQ(twin.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(twin.solve(x0), NmpcStatus::recovering);
+  ASSERT_LE((twin.control() - ctrl.control()).cwiseAbs().maxCoeff(), 1e-12);
   Eigen::Vector2d x = x0;
+  int recovered_presolved = 0;
   for (int t = 1; t <= 12; ++t) {
     x = plant_step(x, ctrl.control()[0]);
     ctrl.shift();
@@ -105,6 +115,13 @@ TEST(NmpcRecovery, StateOutsideItsBoundIsBroughtBack) {
     }
     ASSERT_TRUE(st == NmpcStatus::step_taken || st == NmpcStatus::recovering) << st;
     ASSERT_TRUE(ctrl.control().allFinite());
+    twin.shift();
+    ASSERT_EQ(twin.prepare(), NmpcStatus::prepared);
+    EXPECT_EQ(twin.feedback(x), st) << "sample " << t;
+    EXPECT_FALSE(twin.info().qp_presolved);
+    EXPECT_EQ(twin.info().qp_iterations, ctrl.info().qp_iterations) << "sample " << t;
+    EXPECT_LE((twin.control() - ctrl.control()).cwiseAbs().maxCoeff(), 1e-9) << "sample " << t;
+    recovered_presolved += st == NmpcStatus::recovering && ctrl.info().qp_presolved;
     if (t >= K + 1) {
       EXPECT_LE(x[1], kOmegaMax + 1e-3) << "sample " << t;  // (plant: finer RK4 than the model)
     }
@@ -112,6 +129,7 @@ TEST(NmpcRecovery, StateOutsideItsBoundIsBroughtBack) {
       EXPECT_EQ(st, NmpcStatus::step_taken) << "sample " << t;
     }
   }
+  EXPECT_GE(recovered_presolved, 1);  // a recovering feedback took its prepared step
 }
 
 /// The stop law of the tests: damping, u = -20 omega (clipped by the controller); counts calls.

@@ -674,8 +674,9 @@ TEST(QpRealtime, DenseSolverFollowsTheSameRule) {
 // stages 1..3 moved after presolve() (set_state_bounds(): the NMPC's recovery) keep it when the
 // working set holds (targets of working bounds and inactive bounds moved: the response to the
 // targets' move), and make it an ordinary solve when it does not (a working bound's side made
-// infinite). Uncapped, capped at 2 with the last iterate, and capped at 1 with the best one (whose
-// merit at x = 0 must count x_0's moved bounds). On odd sizes: N = 1, 3, 7, 13; nx = 1, 3, 7, 14;
+// infinite). Uncapped, capped at 2 with the last iterate, and capped at 1 with the best one after
+// a large move of x_0 (~1: the first step is blocked, and x = 0's merit, which must count x_0's
+// moved bounds, decides which iterate is returned). On odd sizes: N = 1, 3, 7, 13; nx = 1, 3, 7, 14;
 // nu = 1, 2, 3, 13.
 /// Adds to changed how many of its solves changed the working set after the presolved step, to
 /// moved how many kept the presolve after moving a working bound's target.
@@ -705,7 +706,9 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
     set.max_iter = max_iter;
     solver.settings() = set;
     const Eigen::VectorXd lx = solver.lam_x(), la = solver.lam_a();
-    std::normal_distribution<double> nd(0.0, 0.05);
+    // (capped at one step returning the best iterate: a large move, whose first step is
+    // blocked, so that x = 0's merit, x_0's moved bounds included, decides what is returned)
+    std::normal_distribution<double> nd(0.0, cap < 0 ? 1.0 : 0.05);
     Eigen::Matrix<double, nx, 1> x0 = qp.stage[0].lbx;
     for (int i = 0; i < nx; ++i)
       x0(i) += nd(rng);
@@ -745,8 +748,15 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
           }
         }
       }
-      for (int i = 0; i < P::nv && variant == 10 && !flipped; ++i) {
-        if (lxs(i) != 0 && i >= nx) {
+      for (int i = nx; i < P::nv && variant == 10 && !flipped; ++i) {
+        // a state bound of a later stage with both sides finite: the other side's target
+        const int loc = i % P::nw;
+        const bool state = loc < nx;
+        const double lo = i < P::horizon * P::nw ? (state ? qp.stage[i / P::nw].lbx(loc) : 0.0)
+                                                 : qp.terminal.lbx(loc);
+        const double hi = i < P::horizon * P::nw ? (state ? qp.stage[i / P::nw].ubx(loc) : 0.0)
+                                                 : qp.terminal.ubx(loc);
+        if (lxs(i) != 0 && state && std::isfinite(lo) && std::isfinite(hi) && lo < hi) {
           lxs(i) = -lxs(i);
           flipped = true;
         }

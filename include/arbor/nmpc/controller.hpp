@@ -47,7 +47,8 @@
 // With settings().presolve_feedback (on by default) prepare() also computes the QP's first step
 // for the predicted x_0 (qp::OcpQpSolver::presolve) and feedback() moves it to the measured one
 // (solve_from_initial_state: one forward Riccati sweep), re-reading nothing; a recovery moves
-// the relaxed state bounds into the QP's copy (qp::OcpQpSolver::set_state_bounds).
+// the relaxed state bounds into the QP's copy (qp::OcpQpSolver::set_state_bounds: then a pass
+// over every constraint and, when a working bound's target moved, a full solve instead).
 #pragma once
 
 #include <Eigen/Core>
@@ -322,6 +323,7 @@ class Nmpc {
     const bool recovering = relax_violated_bounds(x0);
     info_.iterations = 0;
     info_.qp_iterations = 0;
+    info_.qp_presolved = false;  // (set by a solve that ran)
     // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
     // the bound is a step too
     qp_cap_ = settings_.feedback_qp_iterations;

@@ -113,12 +113,12 @@ struct NmpcSettings {
   /// more work per sample. The same iterates to round-off. A recovery (relaxed state bounds)
   /// moves the relaxed bounds into the prepared QP (qp::OcpQpSolver::set_state_bounds) and keeps
   /// it while its working set holds; a feedback that starts the interior-point cold start, or
-  /// after a change of settings().qp, solves as without it. On the contour task
-  /// (bench/nmpc/RESULTS.md, instructions): the feedback -23 % on the host (33 us instead of
-  /// ~45 us) and -22 % on the Cortex-M7, the sample +3.8 % and +2.2 %; the worst sample 1.15x,
-  /// 1.23x (unknown payload) and 1.19x (noise) the median (1.16x, 1.21x, 1.19x without it). On
-  /// by default (the latency from measurement to control is the feedback's); off where the
-  /// sample's total alone decides.
+  /// after a change of settings().qp, solves as without it. Cost: one more Riccati solve per
+  /// sample (the response), moved with most of the first QP iteration from the feedback into
+  /// the preparation; on the contour task (bench/nmpc/RESULTS.md, instructions) the feedback
+  /// -23 % on the host and -22 % on the Cortex-M7, the sample +3.8 % and +2.2 %. On by default
+  /// (the latency from measurement to control is the feedback's); off where the sample's total
+  /// alone decides.
   bool presolve_feedback = true;
   /// A proximal term on the inputs: mu added to the diagonal of every path stage's input Hessian
   /// (the nu input rows, not the slacks), so that each QP also minimises mu/2 |du|^2: a

@@ -96,9 +96,9 @@
 // A' times the multipliers' change: one product with A fewer per such iteration (a product with H
 // and one with A' are left). They are computed from scratch at the start (A x and H x are zero
 // at x = 0: not formed), after a full unblocked step (the next evaluate() may end the loop), every
-// kExactEvery steps, at the iteration cap, and whenever the loop would end on updated ones (the test is repeated on
-// products from scratch): every status and every residual reported belongs to the returned point
-// as computed from the data.
+// kExactEvery steps, at the iteration cap, and whenever the loop would end on updated ones (the
+// test is repeated on products from scratch): every status and every residual reported belongs
+// to the returned point as computed from the data.
 // Presolved start (presolve(), solve_from(): the NMPC's feedback, whose QP differs from the
 // prepared one only in the targets of the first n bounds, fixed variables of the backend): the
 // preparation computes the products at x = 0, the first step and the residual pass over the
@@ -229,7 +229,8 @@ class ActiveSetCore {
   /// lbx = ubx = t (n values): after presolve() with the same n, when the multipliers are still
   /// those it saw (the caller has not written them: checked by a checksum) and no vector was
   /// re-read (update_vectors() discards it), the first iteration takes presolve()'s step plus
-  /// its response to the move (one InitialOnly solve) instead of a full evaluation and solve;
+  /// its response to the move (one InitialOnly solve; a full one when move_bound() moved a
+  /// working bound's target) instead of a full evaluation and solve;
   /// otherwise, and for a first iteration that changes the working set, solve() as usual.
   /// The same iterates as solve() to round-off.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
@@ -263,8 +264,8 @@ class ActiveSetCore {
 
   /// Sets the bounds of variable i (lo <= hi, not NaN: the caller checks) and keeps a presolve
   /// when the working set begin() would build from the multipliers with the new bounds is the
-  /// one presolve() factorized (i is not one of its n targets; an equality stays one with the
-  /// same target, a one-sided active bound keeps that side finite) and the bound is not one the
+  /// one presolve() factorized (i is not one of its n targets; an equality stays one, lo == hi,
+  /// a one-sided active bound keeps that side finite) and the bound is not one the
   /// backend holds exactly: solve_from() then passes over every constraint again and, when the
   /// target of a working bound moved, adds the step's response to that move to the one of the n
   /// targets (one full backend solve instead of the InitialOnly one). Otherwise the presolve is

@@ -117,7 +117,8 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   /// Real-time iteration's preparation, beyond prefactorize(): also the first step of the next
   /// solve_from_initial_state() from x = 0 (x is set to 0 here) with the current multipliers and
   /// the vectors as read, for the initial state's bounds as they are (lbx_0 = ubx_0); the
-  /// feedback then adds that step's response to x_0's move (a forward Riccati sweep) instead of
+  /// feedback then adds that step's response to x_0's move (a forward Riccati sweep; a full solve
+  /// after set_state_bounds() moved a working bound's target) instead of
   /// evaluating and solving. Returns the blocks factorized, or -1 when nothing will be reused
   /// (then solve_from_initial_state() is solve() from x = 0). setup(), update(),
   /// update_vectors(), solve(), prefactorize(), shift() and the writable views x(), lam_x(),
