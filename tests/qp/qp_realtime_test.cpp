@@ -717,8 +717,10 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
     // multipliers kept from before presolve() written through (the checksum); 6 zero multipliers
     // (a first iteration that may change the working set: either path, the same iterates); 8
     // state bounds of stages 1..3 moved, the working set kept; 9 one made infinite on its
-    // working side; 10 a working bound's multiplier flipped (its other side in the working set)
-    for (int variant = 0; variant < 11; ++variant) {
+    // working side; 10 a working bound's multiplier flipped (its other side in the working set);
+    // 11 zero multipliers and state bounds of stages 1..3 loosened or tightened (the whole pass
+    // again, with a first iteration that may change the working set: presolve() kept no step)
+    for (int variant = 0; variant < 12; ++variant) {
       SCOPED_TRACE("variant " + std::to_string(variant));
       // the plain solve of the changed data from x = 0 and the multipliers the solver will have
       static P changed_qp;
@@ -726,13 +728,14 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
       changed_qp.stage[0].lbx = changed_qp.stage[0].ubx = x0;
       Eigen::Matrix<double, P::nv, 1> lxs = lx;
       Eigen::Matrix<double, P::na, 1> las = la;
-      if (variant == 6) {
+      if (variant == 6 || variant == 11) {
         lxs.setZero();
         las.setZero();
       }
       bool target_moved = false, side_removed = false, flipped = false;
       const int last = std::min(3, P::horizon);
-      for (int k = 1; k <= last && (variant == 8 || variant == 9); ++k) {
+      const bool moves = variant == 8 || variant == 9 || variant == 11;
+      for (int k = 1; k <= last && moves; ++k) {
         auto& lb = k < P::horizon ? changed_qp.stage[k].lbx : changed_qp.terminal.lbx;
         auto& ub = k < P::horizon ? changed_qp.stage[k].ubx : changed_qp.terminal.ubx;
         for (int j = 0; j < nx; ++j) {
@@ -745,6 +748,11 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
             target_moved = true;
           } else if (variant == 8 && m == 0 && lb(j) < ub(j)) {
             lb(j) -= 0.02;  // an inactive bound: its residual
+          } else if (variant == 11 && lb(j) < ub(j) && std::isfinite(ub(j) - lb(j))) {
+            if (j % 2 == 0)
+              lb(j) -= 0.02;
+            else
+              ub(j) -= 0.5 * (ub(j) - lb(j));  // tightened: perhaps violated at x = 0
           }
         }
       }
@@ -794,7 +802,7 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
           solver.shift();
         if (variant == 7)
           kept *= 0.5;
-        for (int k = 1; k <= last && (variant == 8 || variant == 9); ++k) {
+        for (int k = 1; k <= last && moves; ++k) {
           const auto& lb = k < P::horizon ? changed_qp.stage[k].lbx : changed_qp.terminal.lbx;
           const auto& ub = k < P::horizon ? changed_qp.stage[k].ubx : changed_qp.terminal.ubx;
           su = solver.set_state_bounds(k, lb, ub);
@@ -803,8 +811,8 @@ void check_presolved_feedback(unsigned seeds, int cap, int& changed, int& moved)
       }
       ASSERT_EQ(su, QpStatus::accepted);
       ASSERT_GE(pre, 0);
-      // (6, 8, 10: either path, by the working set the multipliers name)
-      if (variant != 6 && variant != 8 && variant != 10) {
+      // (6, 8, 10, 11: either path, by the working set the multipliers name)
+      if (variant != 6 && variant != 8 && variant != 10 && variant != 11) {
         EXPECT_EQ(solver.info().presolved, variant == 0 || (variant == 9 && !side_removed));
       }
       presolved += variant == 0 && solver.info().presolved;
