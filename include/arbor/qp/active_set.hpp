@@ -312,9 +312,8 @@ class ActiveSetCore {
     for (int it = 0;; ++it) {
       // presolved: the products at x = 0 are presolve()'s and only the first bounds moved:
       // their residuals merged with presolve()'s pass over the rest (not exact_: a loop that
-      // may end here judges products from scratch, below)
-      // (at the iteration cap the loop ends here: the products from scratch at once, which it
-      // would compute below anyway to judge the last iterate)
+      // may end here judges products from scratch, below); at the iteration cap, where the
+      // loop ends, the products from scratch at once instead of updated and then recomputed
       if (presolved && it == 0)
         scan_moved();
       else
@@ -447,6 +446,13 @@ class ActiveSetCore {
   /// bounds' target moves move_bound() left in dlam_x_ (solve_from()).
   template <typename Backend>
   void move_presolved_step(const Backend& be);
+  /// The multiplier steps after a response d of the step to another right-hand side was added
+  /// (dx_ and dza_ hold it, tmpv_ and tmpa_ the backend's multipliers of the fixed variables and
+  /// exact rows for d: those are added); the weighted constraints' from the new step, w (x - t +
+  /// dx): added (Add: refine_step()'s second proximal step) or set (move_presolved_step(), whose
+  /// presolve() left them free). O(NV + NA).
+  template <bool Add, typename Backend>
+  void response_multipliers();
   /// Two sums of the multipliers (values, magnitudes): whether presolve()'s still hold.
   std::array<Scalar, 2> lam_checksum() const {
     return {lam_x.sum() + lam_a.sum(), lam_x.cwiseAbs().sum() + lam_a.cwiseAbs().sum()};
@@ -1058,24 +1064,34 @@ void ActiveSetCore<Scalar, NV, NA>::move_presolved_step(const Backend& be) {
     // A dx on the path rows (the exact rows' is e, unchanged); the multiplier steps: the exact
     // rows' and fixed variables' by the response, the weighted ones from the moved step (x = 0)
     be.path_mul(dx_, dza_);
-    for (int i = 0; i < NV; ++i) {
-      const State wi = ws[i];
-      if (wi == State::inactive)
-        continue;
-      if (Backend::exact_bound(i))
-        dlam_x_(i) += tmpv_(i);
-      else
-        dlam_x_(i) = w_ * (dx_(i) - (wi == State::lower ? lbx(i) : ubx(i)));
-    }
-    for (int j = 0; j < NA; ++j) {
-      const State wj = ws[NV + j];
-      if (Backend::exact_row(j))
-        dlam_a_(j) += tmpa_(j);
-      else if (wj != State::inactive)
-        dlam_a_(j) = wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j));
-    }
+    response_multipliers<false, Backend>();
   } else {
     compute_step(be);
+  }
+}
+
+template <typename Scalar, int NV, int NA>
+template <bool Add, typename Backend>
+void ActiveSetCore<Scalar, NV, NA>::response_multipliers() {
+  for (int i = 0; i < NV; ++i) {
+    const State wi = ws[i];
+    if (wi == State::inactive)
+      continue;
+    if (Backend::exact_bound(i)) {
+      dlam_x_(i) += tmpv_(i);
+    } else {
+      const Scalar v = w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i));
+      dlam_x_(i) = Add ? dlam_x_(i) + v : v;
+    }
+  }
+  for (int j = 0; j < NA; ++j) {
+    const State wj = ws[NV + j];
+    if (Backend::exact_row(j)) {
+      dlam_a_(j) += tmpa_(j);
+    } else if (wj != State::inactive) {
+      const Scalar v = wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j));
+      dlam_a_(j) = Add ? dlam_a_(j) + v : v;
+    }
   }
 }
 
@@ -1133,22 +1149,7 @@ bool ActiveSetCore<Scalar, NV, NA>::refine_step(const Backend& be, const QpSetti
       be.path_mul(dx_, dza_);  // (D d = 0: the exact rows' A dx is unchanged)
     else
       be.cons_mul(dx_, dza_);
-    for (int i = 0; i < NV; ++i) {
-      const State wi = ws[i];
-      if (wi == State::inactive)
-        continue;
-      if (Backend::exact_bound(i))
-        dlam_x_(i) += tmpv_(i);
-      else
-        dlam_x_(i) += w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i));
-    }
-    for (int j = 0; j < NA; ++j) {
-      const State wj = ws[NV + j];
-      if (Backend::exact_row(j))
-        dlam_a_(j) += tmpa_(j);
-      else if (wj != State::inactive)
-        dlam_a_(j) += wa_(j) * (za_(j) - (wj == State::lower ? lba(j) : uba(j)) + dza_(j));
-    }
+    response_multipliers<true, Backend>();
     return true;
   } else {
     (void)be;
