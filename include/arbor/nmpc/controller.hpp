@@ -176,7 +176,7 @@ class Nmpc {
   /// active set (qp/ocp_interior_point.hpp; info().qp_ipm_iterations); when the interior point
   /// does not converge (an equality other than x_0, an infeasible QP: its iteration cap) the
   /// active set starts cold, as without it. nullptr (the default): the active set starts cold
-  /// alone. ws is the caller's (~127 KB at the Kinova size in double); settings().cold_start
+  /// alone. ws is the caller's (~142 KB at the Kinova size in double); settings().cold_start
   /// holds its settings.
   /// (The interior point's code is instantiated here, through cold_start_: a program that never
   /// calls this compiles and links none of it: ~6 s of compiler time per controller type at -O1.)
