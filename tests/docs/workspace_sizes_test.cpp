@@ -1,8 +1,8 @@
 // sizeof of the caller-owned workspaces for the Kinova Gen3 (the table of docs/api.md): printed
 // for the record, and held to budgets so that a field added to a workspace is a visible decision.
 // The budgets: the dynamics workspace of a 7-DoF arm fits a small MCU's RAM share (16 KB in
-// double), the derivative arrays live outside it (Data alone must stay below the 17 KB it had
-// when it held them), and the AutoDiff Jacobian workspace of the dynamics stays below the whole
+// double), the derivative arrays live outside it (Data alone must stay below the 17 KB it would
+// take holding them), and the AutoDiff Jacobian workspace of the dynamics stays below the whole
 // NMPC budget of DESIGN.md (256 KB in double).
 #include <gtest/gtest.h>
 
