@@ -4,9 +4,10 @@
 // flattened when Flatten is true: everything the body calls is inlined into it (ARBOR_FLATTEN).
 // For the per-body passes of aba and M^-1 in plain floating point: GCC otherwise leaves large
 // bodies out of line with their Eigen assignment loops and block copies (memcpy) out of line too,
-// by a budget that depends on everything else the translation unit instantiates (Atlas M^-1 in
-// double: 40 397 instructions per call in the benchmark unit, 44 845 in a unit of its own;
-// flattened, 31 368 in the benchmark unit). Not for AD scalars, whose bodies are much larger.
+// by a budget that depends on everything else the translation unit instantiates, so that the same
+// kernel costs different instructions in different units (Atlas M^-1 in double: a tenth apart
+// between two units, and flattened about a fifth fewer: bench/RESULTS-regression.md). Not for AD
+// scalars, whose bodies are much larger.
 #pragma once
 
 #include <type_traits>

@@ -7,11 +7,12 @@
 // zero joint acceleration give the nonlinear effects nle, ddq = M^-1 (tau - nle) uses the M^-1
 // that the derivatives need anyway, and a forward fix-up adds the accelerations of ddq before
 // the derivative pass runs (no separate aba).
-// M^-1 shares the sweep (issue 17): for depth-first trees the nle pass also accumulates the world
-// composite inertias and forms M (the columns P = Ycrb S that the derivative pass needs anyway),
-// and M^-1 comes from M's tree-structured L'DL factorisation (minverse_from_mass_matrix: no
-// fill-in, O(n d^2)) instead of a separate articulated-body minverse with its own placements: on
-// the Kinova 16.0k -> 12.7k instructions per call. Other numberings keep minverse.
+// M^-1 shares the sweep: for depth-first trees the nle pass also accumulates the world composite
+// inertias and forms M (the columns P = Ycrb S that the derivative pass needs anyway), and M^-1
+// comes from M's tree-structured L'DL factorisation (minverse_from_mass_matrix: no fill-in,
+// O(n d^2)), cheaper than a separate articulated-body minverse with its own placements (about a
+// fifth of the call's instructions on the Kinova, bench/derivatives/RESULTS.md). Other numberings
+// use minverse.
 #pragma once
 
 #include <array>

@@ -18,12 +18,12 @@
 // sums run over each joint's subtree, whose columns are contiguous (depth-first numbering), as
 // row-vector operations across those columns: O(n d) for a tree of depth d.
 //
-// Cost (issue 17, bench/RESULTS.md): per body, about 300 multiply-adds in the forward pass
+// Cost (bench/RESULTS.md): per body, about 300 multiply-adds in the forward pass
 // (placement, column, dS, ddS, world inertia, its rate, momentum and force) and 250 in the
 // backward pass (P, Q, G, H and the composite sums), plus 42 per pair of joints on one branch. The
 // spatial products are written out scalar by scalar (namespace sx) and force-inlined: through
 // Eigen's vectorised 3-vector cross products, comma initialisers and the out-of-line
-// Inertia * Motion, GCC spent about twice the arithmetic in shuffles, calls and copies. A root
+// Inertia * Motion, GCC spends about twice the arithmetic in shuffles, calls and copies. A root
 // joint's world column is a compile-time constant (RootColumn) and its dS is zero: its products
 // and its row, the longest, skip the structural zeros. Instructions per call from a user's
 // translation unit (with the batched sines and cosines and the scalar world placements of
