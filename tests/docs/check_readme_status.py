@@ -198,7 +198,7 @@ NUMBER = re.compile(r"(?<![\w.])(\d{1,3}(?: \d{3})+(?![\d.])|\d+(?:\.\d+)?)")
 
 
 def numbers(text):
-    """The numbers of `text` as written ('2 996 880' -> '2996880'); none inside a word (Gen3, -O3)."""
+    """The numbers of `text` as written ('2 996 880' -> '2996880'), none inside a word (Gen3)."""
     return [n.replace(" ", "") for n in NUMBER.findall(text)]
 
 
@@ -216,7 +216,8 @@ def check_status_numbers(readme, current):
             continue
         name = row[2:42]
         if not cited:
-            problems.append(f"README.md status row '{name}...': quotes {quoted} but cites no RESULTS file")
+            problems.append(f"README.md status row '{name}...': quotes {quoted} but cites no "
+                            f"RESULTS file")
             continue
         known = set()
         for path in cited:
@@ -262,7 +263,8 @@ def check_repeats(src, current):
         try:
             want = expected(current)
         except (KeyError, StopIteration, ValueError):
-            problems.append(f"{path}: the source of '{pattern}' is missing from its Current figures")
+            problems.append(f"{path}: the source of '{pattern}' is missing from its Current "
+                            f"figures")
             continue
         for m in re.finditer(pattern, src[path]):
             checked += len(m.groups())
@@ -326,7 +328,8 @@ def main(argv):
         for row in status_rows(readme):
             state = state_cell(row)
             cited = re.findall(r"`(bench/[\w/.-]*RESULTS[\w-]*\.md)`", state)
-            known = {n for p in cited for r in current.get(p, []) for n in numbers(" ".join(r.values()))}
+            known = {n for p in cited for r in current.get(p, [])
+                     for n in numbers(" ".join(r.values()))}
             plain = re.sub(r"`[^`]*`", lambda m: "\0" * len(m.group(0)), state)
             offset = row.index(state)
             for m in NUMBER.finditer(plain):
