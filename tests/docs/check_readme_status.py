@@ -159,7 +159,8 @@ def current_table(text, path):
     """The rows (dicts) of the Current figures table that opens `path`, or a problem string."""
     sections = text.split("\n## ")
     if len(sections) < 2 or not sections[1].startswith("Current figures\n"):
-        return f"{path}: its first section is not '## Current figures'"
+        return (f"{path}: its first section is not '## Current figures' (rewritten by its "
+                f"generator script? put the table back with the new figures)")
     found = tables("\n" + sections[1])
     if not found:
         return f"{path}: no table under '## Current figures'"
