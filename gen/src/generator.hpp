@@ -36,6 +36,9 @@ struct Options {
 
 /// Tolerances at which the summary counts how many placements `--snap` would make exact.
 inline constexpr std::array<double, 6> kSnapLadder = {1e-9, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3};
+/// Misalignments up to this [rad] are taken for decimal rounding of an exact angle (pi/2 written
+/// 1.5708 is 3.7e-6 off) and named in a note suggesting --snap; larger ones look deliberate.
+inline constexpr double kRoundedAngleMax = 1e-4;
 
 using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<Vec3, 3>;
