@@ -73,7 +73,7 @@ class Builder {
   }
 
   /// What a link carries, attached to the body it merges into (-1: the fixed base) at its
-  /// placement X in that body's frame. Each per-link concern (the inertial now) is one call.
+  /// placement X in that body's frame. Each per-link concern (its <inertial>) is one call here.
   void add_link(int body, const Transform& X, const urdf::Link& link) {
     out_.frames.push_back(FrameDesc{link.name, body, X});
     add_inertial(body, X, link);
