@@ -142,7 +142,7 @@ class Builder {
       const std::optional<double> lock = locks_.locked_value(j, out_.notes);
       switch (j->type) {
         case urdf::Joint::FIXED:
-          if (locks_.given(j->name))
+          if (locks_.locked_directly(j->name))
             throw GenError("--lock " + j->name + ": joint is already fixed");
           visit(child, body, origin);
           break;

@@ -26,8 +26,8 @@ class Locks {
   Locks(const urdf::ModelInterface& model, const Options& opt, std::vector<std::string>& notes);
 
   /// True when a joint moves nothing: fixed, locked, or a mimic of such a joint (chains
-  /// followed). Side-effect free; a chain with a cycle or a missing joint is not rigid (visit()
-  /// reports it if the joint is kept).
+  /// followed). Side-effect free; a chain with a cycle or a missing joint is not rigid (so a
+  /// --tip can leave it out; locked_value() reports it for a joint that is kept).
   bool rigid(const urdf::JointConstSharedPtr& j) const;
 
   /// The position a joint is locked at, if it is: directly, or as a mimic of a locked joint (or
@@ -37,7 +37,8 @@ class Locks {
   std::optional<double> locked_value(const urdf::JointConstSharedPtr& j,
                                      std::vector<std::string>& notes);
 
-  bool given(const std::string& joint) const { return values_.count(joint) > 0; }
+  /// Locked by --lock or --lock-mimic itself (not as the mimic of a locked joint).
+  bool locked_directly(const std::string& joint) const { return values_.count(joint) > 0; }
   /// One note per --lock that locked nothing in the selected tree.
   void report_unused(std::vector<std::string>& notes) const;
 
