@@ -34,12 +34,11 @@ struct Options {
   bool summary = false;         ///< print a summary instead of (or besides) writing a header
 };
 
-/// Relative tolerance (to the trace) below which a negative principal moment is round-off, and
-/// slack of the triangle inequality; kAbsInertiaTol [kg m^2] is the floor for tiny inertias.
-inline constexpr double kRelInertiaTol = 1e-6;
-inline constexpr double kAbsInertiaTol = 1e-12;
 /// Tolerances at which the summary counts how many placements `--snap` would make exact.
 inline constexpr std::array<double, 6> kSnapLadder = {1e-9, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3};
+/// Misalignments up to this [rad] are taken for decimal rounding of an exact angle (pi/2 written
+/// 1.5708 is 3.7e-6 off) and named in a note suggesting --snap; larger ones look deliberate.
+inline constexpr double kRoundedAngleMax = 1e-4;
 
 using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<Vec3, 3>;
@@ -89,7 +88,7 @@ struct RobotDesc {
   std::vector<std::string> notes;     ///< non-fatal remarks (dropped links, locked joints...)
   std::vector<std::string> warnings;  ///< accepted defects of the input (one per link and defect)
   /// Angle [rad] from each joint origin rotation or joint axis of the URDF to the nearest
-  /// axis-aligned one, for those not already aligned to round-off (1e-14); after --snap.
+  /// axis-aligned one, for those not aligned (kAxisAlignedTol, snap.hpp); after --snap.
   std::vector<double> misalignment;
   int snapped = 0;               ///< rotations and axes made exact by --snap
   double snap_max_angle = 0;     ///< largest change of those [rad]

@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
         int near = 0;
         double worst = 0;
         for (double a : robot.misalignment)
-          if (a <= 1e-4) {
+          if (a <= arbor::gen::kRoundedAngleMax) {
             ++near;
             worst = std::max(worst, a);
           }

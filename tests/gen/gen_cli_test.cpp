@@ -505,6 +505,38 @@ TEST(GeneratorDefects, MimicCyclesAreRejectedWithAndWithoutLockMimic) {
   }
 }
 
+TEST(GeneratorDefects, AMimicCycleHasOneMessageWhicheverStepMeetsIt) {
+  // Resolving j1's lock and grouping for --lock-mimic walk the same chain j1 -> j2 -> j1.
+  const fs::path dir = scratch();
+  const std::string in = kData + "/bad/mimic_cycle.urdf";
+  for (const char* flags : {"", " --lock-mimic", " --lock j0=0"}) {
+    const GenResult r = run("'" + in + "' -o -" + flags, dir);
+    EXPECT_EQ(r.status, 1) << flags;
+    EXPECT_EQ(r.err, "arbor-gen: error: " + in +
+                         ": joint 'j1': its mimic joints form a cycle through 'j1'\n")
+        << flags;
+  }
+}
+
+TEST(GeneratorDefects, OneToleranceDecidesWhetherAnAxisIsAligned) {
+  // tests/gen/data/axis_band.urdf: j0 5e-13 rad off +Z (beyond round-off), j1 5e-14 off +X.
+  const fs::path dir = scratch();
+  const std::string in = kData + "/axis_band.urdf";
+  const GenResult r = run("'" + in + "' -o -", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("arbor-gen: note: 1 joint rotations or axes are within 5e-13 rad of "
+                       "axis-aligned (rounded angles?): --snap makes them exact"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("JointKind::revolute_unaligned,  // j0"), std::string::npos);
+  EXPECT_NE(r.out.find("JointKind::revolute_x,  // j1"), std::string::npos);
+  const GenResult s = run("'" + in + "' -o - --snap 1e-9", dir);
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_NE(s.err.find("--snap 1e-09 made 1 joint rotations and axes exact"), std::string::npos)
+      << s.err;
+  EXPECT_NE(s.out.find("JointKind::revolute_z,  // j0"), std::string::npos);
+}
+
 TEST(GeneratorDefects, RoundedAnglesAreCountedAndNamedWithoutSnap) {
   const fs::path dir = scratch();
   const GenResult r = run("'" + kReal + "rounded_angles.urdf' -o -", dir);
