@@ -49,11 +49,7 @@ constexpr bool kSoft = CONTOUR_SOFT != 0;
 constexpr const char* kTagName = CONTOUR_AUTODIFF == 2   ? "Generated"
                                  : CONTOUR_AUTODIFF == 1 ? "AutoDiff"
                                                          : "Analytical";
-#if CONTOUR_MUJOCO
-using Loop = ContourLoop<kForm, Tag, kSoft, double, SteadyTimer, MujocoPlant>;
-#else
 using Loop = ContourLoop<kForm, Tag, kSoft, double>;
-#endif
 
 void usage(const char* argv0) {
   std::printf(
@@ -312,7 +308,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "MuJoCo plant: %s\n", err.c_str());
       return 2;
     }
-    loop.set_external_plant(&mujoco);
+    loop.use_plant(mujoco);
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "MuJoCo %s (%s, %g ms; damping %g, armature %g, frictionloss %g)",
