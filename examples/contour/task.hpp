@@ -218,8 +218,8 @@ using D = ocp::Dims<nx, nu, np, horizon>;
 /// How OCP-FD's RK4 step is differentiated (arbor/ocp/rk4.hpp): exact, the default (FD's
 /// Jacobian at the four stage states: 64 aba_derivatives per preparation), or, built with
 /// -DCONTOUR_FROZEN_SENSITIVITY=1, frozen (FD's Jacobian at each interval's start only, aba's
-/// value at the other three stages; an O(h^2) inexact Jacobian of the dynamics constraint).
-/// bench/nmpc/RESULTS.md compares the two.
+/// value at the other three stages; an O(h^2) inexact Jacobian of the dynamics constraint): the
+/// example's programs' default (CMakeLists.txt; README.md, "Configurations", compares the two).
 #ifndef CONTOUR_FROZEN_SENSITIVITY
 #define CONTOUR_FROZEN_SENSITIVITY 0
 #endif
