@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The demo (from any folder): the paper's experiment, contour-following NMPC of the Kinova Gen3 in
 # closed loop (examples/contour: OCP-FD, analytical RBD derivatives, hard tunnel, real-time
-# iteration) against MuJoCo as the plant. Installs the few Debian packages it needs when missing
+# iteration) against MuJoCo as the plant, in the example's default configuration (frozen RK4
+# sensitivities, stages from generated code, compiled for this CPU, the feedback bounded to 2 QP
+# iterations; the program prints it). Installs the few Debian packages it needs when missing
 # (not the cross toolchains, emulators, test or benchmark dependencies: those belong to
 # scripts/test.sh), builds one executable, runs it (progress, summary table), writes the CSV log
 # and PNG plots.
@@ -13,6 +15,12 @@
 #                and with the momentum observer; the payload declared to the controller at run
 #                time; unknown damping and armature; noise, plain and filtered), their
 #                summaries' key lines and scenarios.png side by side
+#   DEMO=configs the configurations side by side (examples/contour/README.md, "Configurations"):
+#                the default, without the feedback bound, the other RK4 sensitivity, and the
+#                portable one (exact, expression layer, the compiler's default CPU, no bound), on
+#                the nominal plant, the unknown payload and measurement noise: sample median /
+#                p99 / max [us], tunnel, failures, statuses, QP iterations (builds three
+#                programs: minutes of compiler time each)
 # Extra arguments go to the program (`bash scripts/demo.sh --help` lists them).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -42,7 +50,12 @@ if [ "${DEMO:-contour}" = robots ]; then
   exec "$build/examples/robot_table"
 fi
 start=$(date +%s)
-cmake --build "$build" -j2 --target contour
+if [ "${DEMO:-contour}" = configs ]; then
+  other=contour_exact
+  cmake --build "$build" -j"${JOBS:-2}" --target contour $other contour_portable
+else
+  cmake --build "$build" -j"${JOBS:-2}" --target contour
+fi
 echo "demo: built in $(($(date +%s) - start)) s"
 mkdir -p "$out"
 # Debian's python3 has matplotlib; a python3 earlier on PATH (pyenv, venv) may not
@@ -65,6 +78,37 @@ if [ "${DEMO:-contour}" = scenarios ]; then
   done
   "$py" "$root/examples/contour/plot_scenarios.py" "$out/scenarios.png" "${plots[@]}"
   exit "$status"
+fi
+if [ "${DEMO:-contour}" = configs ]; then
+  exe=$build/examples/contour
+  configs=("contour" "contour --feedback-iter 0" "$other" "$other --feedback-iter 0"
+           "contour_portable --feedback-iter 0")
+  scenarios=("nominal:" "payload:--mismatch" "noise:--noise 1e-3")
+  rows=()
+  for c in "${configs[@]}"; do
+    for sc in "${scenarios[@]}"; do
+      name=${sc%%:*}
+      log="$out/config_$(echo "$c" | tr ' ' '_')_$name.txt"
+      echo "== $c ${sc#*:} $*"
+      # shellcheck disable=SC2086
+      "$exe/"$c --progress 0 --csv - ${sc#*:} "$@" >"$log" || true
+      grep "^configuration" "$log" | head -1 || true
+      rows+=("$(awk -v cfg="$c" -v sc="$name" '
+        /preparation \+ feedback/ { med = $(NF - 3); p99 = $(NF - 1); mx = $NF }
+        /QP iterations per sample/ { qmed = $(NF - 3); qmax = $NF }
+        /tunnel error max/ { tun = $(NF - 8) }
+        /controller failures/ { fail = $NF }
+        /statuses/ { st = $(NF - 5) " / " $(NF - 3) " / " $(NF - 1) }
+        END { printf "| %s | %s | %s | %s | %s | %.2f | %s | %s | %s | %s / %s |\n", cfg, sc, med,
+              p99, mx, (med > 0 ? mx / med : 0), tun, fail, st, qmed, qmax }' "$log")")
+    done
+  done
+  echo
+  echo "| configuration | plant | sample median [us] | p99 | max | max / median | tunnel [mm] | failures | step_taken / step_limited / other | QP iterations median / max |"
+  echo "|---|---|---:|---:|---:|---:|---:|---:|---|---|"
+  printf "%s\n" "${rows[@]}"
+  echo "(one run each on this machine; the configurations' full summaries: $out/config_*.txt)"
+  exit 0
 fi
 status=0
 "$build/examples/contour/contour" --csv "$out/contour.csv" "$@" || status=$?

@@ -7,36 +7,47 @@
 #
 #   bash bench/nmpc/contour_icount.sh [build-dir]     (default: build-fig2, as fig2.sh)
 #
+# The example's default configuration (examples/contour/README.md, "Configurations") unless told:
 # FEEDBACK_ITER=K bounds the feedback's QP to K active-set iterations
-# (NmpcSettings::feedback_qp_iterations; default: no bound). FORMS="fd" runs one formulation.
+# (NmpcSettings::feedback_qp_iterations; default 2, the demo's; 0: no bound). FORMS="fd" runs one
+# formulation.
 # SCENARIO="--mismatch" and/or "--noise SIGMA": the example's plant scenarios (unknown 0.5 kg
 # payload; measurement noise), "--no-presolve" the feedback without its prepared first step
-# (NmpcSettings::presolve_feedback off). FROZEN=1: OCP-FD's RK4 with frozen sensitivities
-# (ocp::Sensitivity::frozen; configures the build folder with ARBOR_CONTOUR_FROZEN_SENSITIVITY).
-# GENERATED=1: the Gauss-Newton stages from generated code (ocp/generated_stage.hpp; configures
-# ARBOR_CONTOUR_GENERATED_STAGE).
+# (NmpcSettings::presolve_feedback off). FROZEN=1 (default) / 0: OCP-FD's RK4 with frozen /
+# exact sensitivities (ocp::Sensitivity; configures ARBOR_CONTOUR_FROZEN_SENSITIVITY).
+# GENERATED=1 (default) / 0: the Gauss-Newton stages from generated code (ocp/generated_stage.hpp)
+# / the expression layer (configures ARBOR_CONTOUR_GENERATED_STAGE). Compiled -O3 -march=native
+# -mno-avx512f (bench/nmpc/CMakeLists.txt: valgrind runs no AVX-512). The build folder may be the
+# demo's (scripts/demo.sh): the benchmarks are configured into it.
 #
 # Needs valgrind; about 2 min of compiler time and 1 min of callgrind per formulation.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build-fig2}
-frozen=OFF
-[[ ${FROZEN:-0} == 1 ]] && frozen=ON
-generated=OFF
-[[ ${GENERATED:-0} == 1 ]] && generated=ON
+frozen=ON
+[[ ${FROZEN:-1} == 0 ]] && frozen=OFF
+generated=ON
+[[ ${GENERATED:-1} == 0 ]] && generated=OFF
+feedback_iter=${FEEDBACK_ITER:-2}
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_BENCH=ON \
   -DARBOR_CONTOUR_FROZEN_SENSITIVITY=$frozen -DARBOR_CONTOUR_GENERATED_STAGE=$generated \
   >/dev/null
-cmake --build "$build" -j"${JOBS:-1}" --target arbor_bench_contour_icount arbor_bench_contour_icount_id
+targets=()
+for form in ${FORMS:-fd id}; do
+  if [[ $form == id ]]; then targets+=(arbor_bench_contour_icount_id); else targets+=(arbor_bench_contour_icount); fi
+done
+cmake --build "$build" -j"${JOBS:-1}" --target "${targets[@]}"
 work=$build/contour_icount
 rm -rf "$work" && mkdir -p "$work"
-echo "| formulation | phase (feedback bound ${FEEDBACK_ITER:-none}${SCENARIO:+, $SCENARIO}$([[ $frozen == ON ]] && echo ", frozen sensitivities")$([[ $generated == ON ]] && echo ", generated stages")) | samples | median | p95 | p99 | max | max / median |"
+bound=$feedback_iter
+[[ $bound == 0 ]] && bound=none
+echo "| formulation | phase (feedback bound $bound${SCENARIO:+, $SCENARIO}, $([[ $frozen == ON ]] && echo frozen || echo exact) sensitivities, $([[ $generated == ON ]] && echo generated stages || echo expression layer)) | samples | median | p95 | p99 | max | max / median |"
 echo "|---|---|---:|---:|---:|---:|---:|---:|"
 for form in ${FORMS:-fd id}; do
   exe=$build/bench/nmpc/arbor_bench_contour_icount
   [[ $form == id ]] && exe=${exe}_id
   (cd "$work" && valgrind --tool=callgrind --instr-atstart=no --dump-instr=no \
-    --callgrind-out-file="$work/cg.$form" "$exe" ${FEEDBACK_ITER:-0} ${SCENARIO:-} >"$work/$form.log" 2>"$work/$form.err") ||
+    --callgrind-out-file="$work/cg.$form" "$exe" "$feedback_iter" ${SCENARIO:-} >"$work/$form.log" 2>"$work/$form.err") ||
     { tail "$work/$form.err" "$work/$form.log" >&2; exit 1; }
   # one file per dump, cg.<form>.<k>, k = 1, 2, ... in call order; its "totals:" line is the
   # instructions since the previous dump. Per sample: dump 3s+1 closes the gap before the

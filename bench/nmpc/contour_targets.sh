@@ -9,10 +9,12 @@
 # (bench/targets/contour_firmware.cpp). Writes bench/nmpc/RESULTS-targets.md (or $1).
 # Build folders: $BUILD_DIR (host, default build-contour-bench) and <it>-cortex-m7/-cortex-m4f.
 # About 20 minutes of compiler time on 2 cores (twelve controller translation units, ~2 GB each).
+# The example's default configuration (examples/contour/README.md, "Configurations") unless told:
 # FEEDBACK_ITER=K: the closed loops' feedback bounded to K QP iterations (issue 38;
-# ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 0, no bound). FROZEN=1: OCP-FD's
-# RK4 with frozen sensitivities (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike).
-# GENERATED=1: the Gauss-Newton stages from generated code (ARBOR_CONTOUR_GENERATED_STAGE; the
+# ARBOR_CONTOUR_FEEDBACK_ITER, host and targets alike; default 2, the demo's; 0: no bound).
+# FROZEN=1 (default) / 0: OCP-FD's RK4 with frozen / exact sensitivities
+# (ARBOR_CONTOUR_FROZEN_SENSITIVITY, host and targets alike). GENERATED=1 (default) / 0: the
+# Gauss-Newton stages from generated code / the expression layer (ARBOR_CONTOUR_GENERATED_STAGE; the
 # host build generates the header the targets compile). PRESOLVE=0: the feedback computes its
 # first QP step itself (ARBOR_CONTOUR_PRESOLVE OFF; NmpcSettings::presolve_feedback, on by
 # default as here). TARGETS="cortex-m7" and FORMS="fd" run a subset (defaults: both targets, both
@@ -23,9 +25,9 @@ out="${1:-$root/bench/nmpc/RESULTS-targets.md}"
 host="${BUILD_DIR:-$root/build-contour-bench}"
 tmp="$(mktemp -d)"
 frozen=OFF
-[[ ${FROZEN:-0} == 1 ]] && frozen=ON
+[[ ${FROZEN:-1} == 1 ]] && frozen=ON
 generated=OFF
-[[ ${GENERATED:-0} == 1 ]] && generated=ON
+[[ ${GENERATED:-1} == 1 ]] && generated=ON
 presolve=ON
 [[ ${PRESOLVE:-1} == 0 ]] && presolve=OFF
 forms="${FORMS:-fd id}"
@@ -41,7 +43,7 @@ echo "== host"
 # -O3 like the targets (hosted tests default to -O1 for compile time: ARBOR_TEST_OPTIMIZATION).
 cmake -S "$root" -B "$host" -DCMAKE_BUILD_TYPE=Release -DARBOR_BUILD_TESTS=ON \
   -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_TEST_OPTIMIZATION= \
-  -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" -DARBOR_CONTOUR_PRESOLVE="$presolve" \
+  -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-2}" -DARBOR_CONTOUR_PRESOLVE="$presolve" \
   -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" -DARBOR_CONTOUR_GENERATED_STAGE="$generated" \
   >/dev/null
 # shellcheck disable=SC2086
@@ -59,7 +61,7 @@ for t in $targets; do
   cmake -S "$root" -B "$b" --toolchain "$root/toolchains/$t.cmake" -DCMAKE_BUILD_TYPE=Release \
     -DARBOR_GEN_EXECUTABLE="$host/gen/arbor-gen" -DARBOR_HOST_BUILD_DIR="$host" \
     -DARBOR_PORTABLE_TESTS_ONLY=ON -DARBOR_CONTOUR_TARGET_ID=ON -DARBOR_BUILD_BENCH=ON \
-    -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-0}" -DARBOR_CONTOUR_PRESOLVE="$presolve" \
+    -DARBOR_CONTOUR_FEEDBACK_ITER="${FEEDBACK_ITER:-2}" -DARBOR_CONTOUR_PRESOLVE="$presolve" \
     -DARBOR_CONTOUR_FROZEN_SENSITIVITY="$frozen" -DARBOR_CONTOUR_GENERATED_STAGE="$generated" \
     >/dev/null
   loop_forms="$forms"  # closed loops run on this target
@@ -104,8 +106,8 @@ done
   echo "2e-3 on qd, sd: target_test.cpp derives them)."
   echo "Instructions = SysTick ticks x instructions per tick (calibrated on a loop of known length"
   echo "under -icount shift=0); host rows are microseconds of this machine (shared, noisy)."
-  echo "Options: FEEDBACK_ITER=${FEEDBACK_ITER:-0}, FROZEN=${FROZEN:-0}," \
-    "GENERATED=${GENERATED:-0}, PRESOLVE=${PRESOLVE:-0}."
+  echo "Options: FEEDBACK_ITER=${FEEDBACK_ITER:-2}, FROZEN=${FROZEN:-1}," \
+    "GENERATED=${GENERATED:-1}, PRESOLVE=${PRESOLVE:-1}."
   echo
   echo "| where | OCP | scalar | phase | median | p95 | max | unit |"
   echo "|---|---|---|---|---:|---:|---:|---|"

@@ -8,6 +8,8 @@
 //   CONTOUR_SOFT      0: hard tunnel, 1: soft tunnel (exact-penalty slack)
 //   CONTOUR_MUJOCO    1: MuJoCo is available as the plant (the default, `--plant mujoco`;
 //                     CONTOUR_URDF is the Gen3's URDF it loads); 0: arbor's plant only
+//   CONTOUR_FROZEN_SENSITIVITY, CONTOUR_GENERATED_STAGE (task.hpp, mpc.hpp), CONTOUR_FLAGS (the
+//                     compiler flags, printed): the configuration (CMakeLists.txt)
 // Prints progress, a summary table, and writes a CSV log (plot it with plot.py). `--help`.
 #include <algorithm>
 #include <cmath>
@@ -37,6 +39,12 @@
 #ifndef CONTOUR_MUJOCO
 #define CONTOUR_MUJOCO 0
 #endif
+#ifndef CONTOUR_CONFIGURATION
+#define CONTOUR_CONFIGURATION "contour"
+#endif
+#ifndef CONTOUR_FLAGS
+#define CONTOUR_FLAGS "(not given)"
+#endif
 
 namespace {
 
@@ -49,11 +57,7 @@ constexpr bool kSoft = CONTOUR_SOFT != 0;
 constexpr const char* kTagName = CONTOUR_AUTODIFF == 2   ? "Generated"
                                  : CONTOUR_AUTODIFF == 1 ? "AutoDiff"
                                                          : "Analytical";
-#if CONTOUR_MUJOCO
-using Loop = ContourLoop<kForm, Tag, kSoft, double, SteadyTimer, MujocoPlant>;
-#else
 using Loop = ContourLoop<kForm, Tag, kSoft, double>;
-#endif
 
 void usage(const char* argv0) {
   std::printf(
@@ -93,6 +97,7 @@ void usage(const char* argv0) {
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
       "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
       "  --feedback-iter K RTI: bound the feedback's QP to K iterations, its step taken anyway\n"
+      "                    (default 2; 0: no bound)\n"
       "  --no-presolve     RTI: the feedback computes its first QP step itself instead of moving\n"
       "                    the one prepare() computed (the library's default; more latency, less\n"
       "                    work per sample)\n"
@@ -112,6 +117,23 @@ void usage(const char* argv0) {
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard",
       CONTOUR_MUJOCO ? "" : "\n                    (this build has no MuJoCo: arbor only)");
+}
+
+/// The widest x86 vector instruction set the program was compiled for.
+const char* isa() {
+#if defined(__AVX512F__)
+  return "AVX-512";
+#elif defined(__AVX2__) && defined(__FMA__)
+  return "AVX2 + FMA";
+#elif defined(__AVX__)
+  return "AVX";
+#elif defined(__SSE2__)
+  return "SSE2";
+#elif defined(__ARM_NEON)
+  return "NEON";
+#else
+  return "scalar";
+#endif
 }
 
 /// Quantile q of v (nearest rank; v is copied).
@@ -169,6 +191,9 @@ void write_csv(const char* path, const std::vector<Record>& log) {
 int main(int argc, char** argv) {
   Options o;
   o.hold = 0.5;  // the demo starts as a robot starts a task
+  // The feedback's QP bounded to 2 iterations (its step taken anyway, step_limited): the worst
+  // sample's cost near the median's, the closed loop the same (README.md, "Configurations")
+  o.feedback_qp_iter = 2;
   bool use_mujoco = CONTOUR_MUJOCO != 0;
 #if CONTOUR_MUJOCO
   MujocoPlantOptions mo;
@@ -312,7 +337,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "MuJoCo plant: %s\n", err.c_str());
       return 2;
     }
-    loop.set_external_plant(&mujoco);
+    loop.use_plant(mujoco);
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "MuJoCo %s (%s, %g ms; damping %g, armature %g, frictionloss %g)",
@@ -336,6 +361,14 @@ int main(int argc, char** argv) {
                         : "+0.5 kg payload (unknown to the controller)",
       o.noise > 0 ? ", measurement noise" : "");
   std::printf("plant: %s\n", plant_name.c_str());
+  std::printf(
+      "configuration %s: RK4 sensitivities %s, stages from %s, feedback bound %s, presolved "
+      "feedback %s; compiled with %s (%s)\n",
+      CONTOUR_CONFIGURATION,
+      rk4_sensitivity == arbor::ocp::Sensitivity::frozen ? "frozen" : "exact",
+      loop.generated_stage() ? "generated code" : "the expression layer",
+      o.feedback_qp_iter > 0 ? std::to_string(o.feedback_qp_iter).c_str() : "none",
+      o.presolve ? "on" : "off", CONTOUR_FLAGS, isa());
   std::printf("stage linearisations: %s\n",
               loop.generated_stage()      ? "generated code (ocp/generated_stage.hpp)"
               : Loop::has_generated_stage ? "expression layer (these options are not the "
@@ -423,10 +456,10 @@ int main(int argc, char** argv) {
               !o.mismatch       ? ""
               : o.known_payload ? ", +0.5 kg payload, known"
                                 : ", +0.5 kg payload");
-  std::printf("  %-34s %10s %10s %10s\n", "", "median", "p95", "max");
+  std::printf("  %-34s %10s %10s %10s %10s\n", "", "median", "p95", "p99", "max");
   auto row = [](const char* name, const std::vector<double>& v, const char* fmt) {
     std::printf("  %-34s ", name);
-    for (double q : {0.5, 0.95, 1.0})
+    for (double q : {0.5, 0.95, 0.99, 1.0})
       std::printf(fmt, quantile(v, q));
     std::printf("\n");
   };
@@ -460,6 +493,16 @@ int main(int argc, char** argv) {
   std::printf("  %-34s %10.4f (%s)\n", "final s", s_final,
               s_final > o.s_end ? "reached" : "NOT reached");
   std::printf("  %-34s %10d\n", "controller failures", failures);
+  {
+    int taken = 0, limited = 0, other = 0;
+    for (const Record& r : task) {
+      taken += r.status == arbor::nmpc::NmpcStatus::step_taken ? 1 : 0;
+      limited += r.status == arbor::nmpc::NmpcStatus::step_limited ? 1 : 0;
+    }
+    other = int(n) - taken - limited;
+    std::printf("  %-34s %10d step_taken, %d step_limited, %d other\n", "statuses", taken, limited,
+                other);
+  }
   if (csv != "-") {
     write_csv(csv.c_str(), log);
     std::printf("log: %s\n", csv.c_str());

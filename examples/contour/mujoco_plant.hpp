@@ -1,7 +1,6 @@
 // The contour example's independent plant: MuJoCo (Debian's libmujoco-dev) simulating the Gen3
-// from the same URDF with its own parser and its own dynamics (mujoco_model.hpp), the interface
-// of plant.hpp's Plant (x, step, ee_position, rotation_error, tau_applied, tau_peak), so that
-// ContourLoop (closed_loop.hpp) runs either.
+// from the same URDF with its own parser and its own dynamics (mujoco_model.hpp): a Plant
+// (plant.hpp's concept), so that ContourLoop (closed_loop.hpp) runs it or arbor's.
 //   - MuJoCo steps at its own rate (MujocoPlantOptions::dt, 1 ms by default, h / dt steps per
 //     0.02 s sample) with its own integrator (RK4 by default; `euler`: MuJoCo's semi-implicit
 //     Euler, implicit in the joint damping).
@@ -125,13 +124,10 @@ class MujocoPlant {
   /// End-effector rotation error against the reference.
   VecN<double, 3> rotation_error(const Reference& ref) {
     arbor::forward_kinematics<Robot>(kin_, Vq(x.head<nq>()));
-    const auto& M = arbor::frame_placement<Robot>(kin_, ee_frame);
-    VecN<double, 12> pose;
-    pose.head<3>() = M.p;
-    for (int c = 0; c < 3; ++c)
-      pose.segment<3>(3 + 3 * c) = M.R.col(c);
-    return contour::rotation_error<double>(ref, pose);
+    return contour::rotation_error<double>(ref, arbor::frame_placement<Robot>(kin_, ee_frame).R);
   }
+  /// MuJoCo's time step [s].
+  double substep_dt() const { return opt_.dt; }
 
   const MujocoPlantOptions& options() const { return opt_; }
   int substeps() const { return substeps_; }
@@ -143,5 +139,6 @@ class MujocoPlant {
   mujoco::MujocoModel<Robot> mj_;
   arbor::Data<Robot, double> kin_;
 };
+static_assert(Plant<MujocoPlant>);
 
 }  // namespace contour

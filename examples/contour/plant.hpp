@@ -1,7 +1,9 @@
-// The simulated plant of the contour example: the Gen3 integrated with arbor's own forward
-// dynamics (aba) by RK4 at 1 ms, 20 substeps per 0.02 s sample, applying the controller's first
-// input; s and sd (virtual states) integrate the applied sdd exactly. (`--plant arbor`; the
-// demo's default plant is MuJoCo, mujoco_plant.hpp, with the same interface.)
+// The simulated plants of the contour example. `Plant` is what the closed loop needs of one (a
+// concept; PlantRef holds any of them, chosen once): arbor's, here, and MuJoCo's
+// (mujoco_plant.hpp, the demo's default) satisfy it. ArborPlant integrates the Gen3 with arbor's
+// own forward dynamics (aba) by RK4 at 1 ms, 20 substeps per 0.02 s sample (20 aba calls x 4 per
+// sample), applying the controller's first input; s and sd (virtual states) integrate the applied
+// sdd exactly (`--plant arbor`).
 //   OCP-FD: the torque tau of u_0 is held over the sample.
 //   OCP-ID: an inner 1 kHz computed-torque loop: at each 1 ms substep tau = rnea(q, qd, qdd_cmd)
 //           on the controller's (nominal) model, held over the substep; the plant moves with its
@@ -12,6 +14,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <concepts>
 #include <cstddef>
 
 #include "arbor/dynamics/aba.hpp"
@@ -26,6 +29,35 @@ namespace contour {
 struct NoSubstepHook {
   template <class Q, class V, class T>
   void operator()(const Q&, const V&, const T&) const {}
+};
+
+/// A substep hook that calls fn(obj, q, qd, tau) (nothing when fn is null): what PlantRef passes
+/// to a plant's step().
+struct SubstepHook {
+  using Vq = VecN<double, nq>;
+  void* obj = nullptr;
+  void (*fn)(void*, const Vq&, const Vq&, const Vq&) = nullptr;
+  void operator()(const Vq& q, const Vq& qd, const Vq& tau) const {
+    if (fn)
+      fn(obj, q, qd, tau);
+  }
+};
+
+/// What the closed loop needs of a plant: the state x = [q, qd, s, sd]; step(form, u, hook), one
+/// sample of length h from u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id, a computed-torque loop on
+/// `nominal`, the controller's model), calling hook(q, qd, tau) after each substep (of length
+/// substep_dt()); the torque of the last substep and the largest over the sample; the end
+/// effector's position and rotation error (task.hpp's rotation_error) at x.
+template <class P>
+concept Plant = requires(P& p, const Reference& ref, const VecN<double, nu>& u) {
+  { p.x } -> std::convertible_to<VecN<double, nx>>;
+  { p.tau_applied } -> std::convertible_to<VecN<double, nq>>;
+  { p.tau_peak } -> std::convertible_to<VecN<double, nq>>;
+  { p.nominal } -> std::convertible_to<arbor::Data<Robot, double>&>;
+  p.step(Formulation::fd, u, SubstepHook{});
+  { p.ee_position() } -> std::convertible_to<VecN<double, 3>>;
+  { p.rotation_error(ref) } -> std::convertible_to<VecN<double, 3>>;
+  { p.substep_dt() } -> std::convertible_to<double>;
 };
 
 namespace detail {
@@ -67,9 +99,9 @@ struct PayloadRobot : Robot {
   }();
 };
 
-/// The plant: state [q, qd, s, sd], model PR (Robot or PayloadRobot).
+/// arbor's plant: state [q, qd, s, sd], model PR (Robot or PayloadRobot).
 template <class PR>
-struct Plant {
+struct ArborPlant {
   using Vx = VecN<double, nx>;
   using Vq = VecN<double, nq>;
   static constexpr int substeps = 20;
@@ -106,6 +138,9 @@ struct Plant {
     x[15] += h * sdd;
   }
 
+  /// The substep [s].
+  static constexpr double substep_dt() { return dt; }
+
   /// End-effector position at the plant's q.
   VecN<double, 3> ee_position() {
     arbor::forward_kinematics<PR>(d, Vq(x.head<nq>()));
@@ -114,12 +149,7 @@ struct Plant {
   /// End-effector rotation error against the reference.
   VecN<double, 3> rotation_error(const Reference& ref) {
     arbor::forward_kinematics<PR>(d, Vq(x.head<nq>()));
-    const auto& M = arbor::frame_placement<PR>(d, ee_frame);
-    VecN<double, 12> pose;
-    pose.head<3>() = M.p;
-    for (int c = 0; c < 3; ++c)
-      pose.segment<3>(3 + 3 * c) = M.R.col(c);
-    return contour::rotation_error<double>(ref, pose);
+    return contour::rotation_error<double>(ref, arbor::frame_placement<PR>(d, ee_frame).R);
   }
 
  private:
@@ -137,6 +167,53 @@ struct Plant {
     const auto k4 = f(y + dt * k3, tau);
     x.head<2 * nq>() = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
   }
+};
+static_assert(Plant<ArborPlant<Robot>> && Plant<ArborPlant<PayloadRobot>>);
+
+/// Any Plant, by reference (not owned): the closed loop's plant, chosen once.
+class PlantRef {
+ public:
+  using Vx = VecN<double, nx>;
+  using Vq = VecN<double, nq>;
+
+  template <Plant P>
+  explicit PlantRef(P& p)
+      : obj_(&p),
+        x_(&p.x),
+        tau_applied_(&p.tau_applied),
+        tau_peak_(&p.tau_peak),
+        nominal_(&p.nominal),
+        substep_dt_(p.substep_dt()),
+        step_([](void* o, Formulation f, const VecN<double, nu>& u, SubstepHook hook) {
+          static_cast<P*>(o)->step(f, u, hook);
+        }),
+        ee_position_([](void* o) { return VecN<double, 3>(static_cast<P*>(o)->ee_position()); }),
+        rotation_error_([](void* o, const Reference& r) {
+          return VecN<double, 3>(static_cast<P*>(o)->rotation_error(r));
+        }) {}
+
+  Vx& x() { return *x_; }
+  const Vx& x() const { return *x_; }
+  const Vq& tau_applied() const { return *tau_applied_; }
+  const Vq& tau_peak() const { return *tau_peak_; }
+  arbor::Data<Robot, double>& nominal() { return *nominal_; }
+  double substep_dt() const { return substep_dt_; }
+  void step(Formulation f, const VecN<double, nu>& u, SubstepHook hook = {}) {
+    step_(obj_, f, u, hook);
+  }
+  VecN<double, 3> ee_position() { return ee_position_(obj_); }
+  VecN<double, 3> rotation_error(const Reference& r) { return rotation_error_(obj_, r); }
+
+ private:
+  void* obj_;
+  Vx* x_;
+  Vq* tau_applied_;
+  Vq* tau_peak_;
+  arbor::Data<Robot, double>* nominal_;
+  double substep_dt_;
+  void (*step_)(void*, Formulation, const VecN<double, nu>&, SubstepHook);
+  VecN<double, 3> (*ee_position_)(void*);
+  VecN<double, 3> (*rotation_error_)(void*, const Reference&);
 };
 
 }  // namespace contour

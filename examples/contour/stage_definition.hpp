@@ -1,9 +1,9 @@
 // The contour OCPs as problem definitions for generated stage code (arbor/ocp/generated_stage.hpp,
-// CMake arbor_add_stage_ad): the problem closed_loop.hpp builds with the default options of a
+// CMake arbor_add_stage_ad): the problem mpc.hpp builds with the default options of a
 // controller at scalar Scalar (c = 0.2, hard or soft tunnel of slack weight 100 and radius rho
 // less default_backoff<Scalar>, the unscaled tunnel row), analytical RBD derivatives, RK4
 // sensitivities as task.hpp's rk4_sensitivity. The generated code folds these constants in; a
-// loop run with other values uses the expression layer (closed_loop.hpp checks).
+// loop run with other values uses the expression layer (mpc.hpp checks).
 #pragma once
 
 #include "task.hpp"

@@ -56,7 +56,7 @@ constexpr double qd_max = 0.8727;                                               
 constexpr std::array<double, nq> q_max{inf, 2.2, inf, 2.5656, inf, 2.05, inf};  // |q| [rad]
 constexpr double qdd_max = 240.0 * pi / 180.0;  // |qdd| (OCP-ID) [rad/s^2]
 constexpr double rho = 0.01;                    // tunnel radius [m]
-/// The controller's default tunnel back-off [m] (closed_loop.hpp's Options::backoff < 0): the
+/// The controller's default tunnel back-off [m] (options.hpp's Options::backoff < 0): the
 /// margin for the linearisation error of real-time iteration (double, 1e-4: the plant reached
 /// 10.002 mm without it) and, in float, for the QP's looser primal tolerance (3e-4; README.md,
 /// "Float").
@@ -110,20 +110,21 @@ VecN<S, 3> p_ref(const ReferenceT<P>& r, const S& s) {
   return p;
 }
 
-/// e_R = 1/2 sum_i n_i x r_i over the columns n_i of R (from a pose vector, offset 3) and r_i of
-/// R_ref (zero when aligned).
-template <class S, class V, class P>
-VecN<S, 3> rotation_error(const ReferenceT<P>& r, const V& pose) {
-  VecN<S, 3> e = VecN<S, 3>::Zero();
-  for (int i = 0; i < 3; ++i) {
-    const S n0 = pose[3 + 3 * i], n1 = pose[4 + 3 * i], n2 = pose[5 + 3 * i];
-    const S r0 = S(r.R0[std::size_t(3 * i)]), r1 = S(r.R0[std::size_t(3 * i + 1)]),
-            r2 = S(r.R0[std::size_t(3 * i + 2)]);
-    e[0] = e[0] + S(0.5) * (n1 * r2 - n2 * r1);
-    e[1] = e[1] + S(0.5) * (n2 * r0 - n0 * r2);
-    e[2] = e[2] + S(0.5) * (n0 * r1 - n1 * r0);
-  }
-  return e;
+using OrientationError = ad::FrameOrientationError<Robot, ee_frame, ad::CrossSum>;
+
+/// The reference rotation's columns as OrientationError's inputs x[nq + 3 c + i] (the inputs
+/// x[0, nq), q, are not read by its error()).
+template <class S, class P>
+struct ReferenceColumns {
+  const ReferenceT<P>& ref;
+  S operator[](int k) const { return S(ref.R0[std::size_t(k - nq)]); }
+};
+
+/// e_R = 1/2 sum_c r_c x n_c over the columns r_c of R_ref and n_c of the end effector's rotation
+/// Rf (zero when aligned): the library's CrossSum orientation error (ad/frame_functions.hpp).
+template <class S, class P, class M>
+VecN<S, 3> rotation_error(const ReferenceT<P>& r, const M& Rf) {
+  return OrientationError::error<S>(ReferenceColumns<S, P>{r}, Rf);
 }
 
 using Fd = ad::ForwardDynamics<Robot>;
@@ -142,7 +143,11 @@ struct TrackResidualT {
     using S = ad::ScalarOf<P>;
     const S s = ssd[0], sd = ssd[1];
     const VecN<S, 3> pr = p_ref(ref, s);
-    const VecN<S, 3> er = rotation_error<S>(ref, pose);
+    Eigen::Matrix<S, 3, 3> Rf;
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 3; ++i)
+        Rf(i, c) = pose[3 + 3 * c + i];
+    const VecN<S, 3> er = rotation_error<S>(ref, Rf);
     VecN<S, 9> r;
     r[0] = sd - sd_ref(ref.c, s);
     for (int i = 0; i < 3; ++i) {
@@ -213,8 +218,8 @@ using D = ocp::Dims<nx, nu, np, horizon>;
 /// How OCP-FD's RK4 step is differentiated (arbor/ocp/rk4.hpp): exact, the default (FD's
 /// Jacobian at the four stage states: 64 aba_derivatives per preparation), or, built with
 /// -DCONTOUR_FROZEN_SENSITIVITY=1, frozen (FD's Jacobian at each interval's start only, aba's
-/// value at the other three stages; an O(h^2) inexact Jacobian of the dynamics constraint).
-/// bench/nmpc/RESULTS.md compares the two.
+/// value at the other three stages; an O(h^2) inexact Jacobian of the dynamics constraint): the
+/// example's programs' default (CMakeLists.txt; README.md, "Configurations", compares the two).
 #ifndef CONTOUR_FROZEN_SENSITIVITY
 #define CONTOUR_FROZEN_SENSITIVITY 0
 #endif
@@ -233,7 +238,7 @@ using Workspace =
 /// soft_weight (else hard). The controller's tunnel radius is `radius` (rho less a back-off
 /// margin for the linearisation error of real-time iteration). `scaled`: the tunnel row is
 /// |e_p / radius|^2 - 1 <= 0 (of order one), else |e_p|^2 - radius^2 <= 0 (of order 1e-4 m^2,
-/// the default in real-time iteration). The SQP mode (closed_loop.hpp) scales it: its absolute
+/// the default in real-time iteration). The SQP mode (mpc.hpp) scales it: its absolute
 /// 1e-3 primal tolerance would admit |e_p| up to 33 mm on the unscaled row. In double RTI with
 /// QP tolerances of 1e-8 the scaled row made the QP hit its iteration limit in 62 of 318 samples.
 /// Float: README.md, "Float".

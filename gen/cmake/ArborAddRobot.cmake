@@ -9,7 +9,16 @@
 # The generator is the arbor-gen target of this build, the imported arbor::arbor-gen of an
 # installed package, or the executable named by the cache variable ARBOR_GEN_EXECUTABLE (for
 # cross builds, where the generator must run on the build machine).
+#
+# In a source tree (add_subdirectory(arbor)) the generated derivatives and stage code come with it:
+# arbor_add_robot_ad (gen/ad/ArborAddRobotAd.cmake) and arbor_add_stage_ad (a problem's
+# Gauss-Newton stages as straight-line code, gen/ad/ArborAddStageAd.cmake; docs/tutorial.md,
+# "The fast configuration").
 include_guard(GLOBAL)
+if(EXISTS "${CMAKE_CURRENT_LIST_DIR}/../ad/ArborAddStageAd.cmake")
+  include("${CMAKE_CURRENT_LIST_DIR}/../ad/ArborAddRobotAd.cmake")
+  include("${CMAKE_CURRENT_LIST_DIR}/../ad/ArborAddStageAd.cmake")
+endif()
 
 function(arbor_add_robot target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "LOCK_MIMIC;FIX_INERTIA;STRICT_INERTIA"
