@@ -12,6 +12,10 @@
 //                a soft one with slack s gives a lower row J d + ds >= lg - g - s and an upper row
 //                J d - ds <= ug - g + s; a convex constraint gives grad psi' J_c d <= -psi(c)
 //                (soft: grad psi' J_c d - ds <= -psi(c) + s)
+// One routine serves both stage kinds: the terminal stage is a stage without input (nu = ns = 0,
+// x seeded alone, no D block, no dynamics). Each constraint kind states its rows, Gauss-Newton
+// term and violation once (detail::ConstraintKind); the QP-row layout of hard and soft rows, the
+// slacks' costs and the rows' multipliers are detail::place_rows' alone.
 // Variable bounds and the embedding of x_0 are the solver's (nmpc/): they change without
 // relinearising. Multipliers follow the QP's sign convention (qp/problem.hpp): the stage
 // Lagrangian is f + lam_dyn' (x_{k+1} - F) + mu' g.
@@ -70,6 +74,13 @@ constexpr int qp_rows(int rows) {
 /// The QP a problem P linearises into, at scalar T.
 template <class P, class T>
 using QpOf = qp::OcpQp<T, P::horizon, P::nx, P::nu + P::ns, qp_rows(P::ng), qp_rows(P::ngn)>;
+
+/// Cost and L1 infeasibility of a stage (merit function pieces; bounds excluded).
+template <class T>
+struct StageMerit {
+  T cost = T(0);       ///< stage cost, slack costs included
+  T violation = T(0);  ///< sum of |F - x_next| and of the constraints' violations
+};
 
 namespace detail {
 
@@ -151,10 +162,92 @@ void symmetrize_lower(MatN<T, n>& hess) {
       hess(b, a) = hess(a, b);
 }
 
+/// grad += J' grad phi(r) for every cost term at the point of env (n seeded variables) and, for
+/// Gauss-Newton, the lower triangle of hess += J' grad^2 phi(r) J.
+template <HessianKind H, class Costs, class Env, class T, int n>
+void add_costs(const Costs& costs, const Env& env, VecN<T, n>& grad, MatN<T, n>& hess) {
+  for_each_term(costs.terms, [&](const auto& c) {
+    constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
+    constexpr auto pat = jacobian_pattern<Env, decltype(c.r)>;
+    const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
+    add_transposed_product<pat>(grad, J, c.phi.template gradient<T, m>(rv));
+    if constexpr (H == HessianKind::gauss_newton)
+      add_gauss_newton_lower<pat>(hess, c.phi, VecN<T, m>(rv), J, T(1));
+  });
+}
+
+/// How a constraint kind of terms.hpp enters a stage, one specialisation per kind (its QP rows
+/// are laid out by place_rows, its sizes and soft sides declared by the term type):
+///   linearize<H>(c, env, hess, place)  at the point of env (n seeded variables), passes the
+///       Jacobian J (rows x n) of the kind's nonlinear rows and the bounds of J d relative to the
+///       value (lo = lg - g, hi = ug - g; -inf or inf where absent) to place(J, lo, hi), which
+///       writes the QP rows and returns the rows' multipliers mu; for Gauss-Newton it then adds
+///       the kind's curvature term at mu to the lower triangle of hess
+///   lagrangian_term<off>(c, mu)  the term's part mu' g of the stage Lagrangian, an expression in
+///       the multiplier symbol mu, its rows' multipliers from entry off (the exact Hessian's)
+///   add_violation(c, x, u, p, s, v)  v += how far each row lies outside [lg - s(i), ug + s(i)]
+///       (s(i): row i's slack, 0 when hard)
 template <class C>
-inline constexpr bool is_convex_constraint_v = false;
-template <class E, class Psi, bool Soft>
-inline constexpr bool is_convex_constraint_v<ConvexConstraint<E, Psi, Soft>> = true;
+struct ConstraintKind;
+
+/// lg <= g <= ug: the rows of g. A constraint's curvature is not part of the Gauss-Newton
+/// Hessian (it needs the inner function's second derivatives).
+template <ad::Expression E, bool Soft>
+struct ConstraintKind<Constraint<E, Soft>> {
+  using C = Constraint<E, Soft>;
+  template <HessianKind H, class Env, class T, int n, class Place>
+  static void linearize(const C& c, const Env& env, MatN<T, n>&, Place&& place) {
+    const auto [gv, J] = ad::detail::value_and_jacobian_in(env, c.g);
+    VecN<T, C::rows> lo, hi;
+    for (int i = 0; i < C::rows; ++i) {
+      lo[i] = T(c.lg[std::size_t(i)]) - gv[i];
+      hi[i] = T(c.ug[std::size_t(i)]) - gv[i];
+    }
+    place(J, lo, hi);
+  }
+  template <int off, class Mu>
+  static auto lagrangian_term(const C& c, const Mu& mu) {
+    return ad::dot(ad::segment<off, C::rows>(mu), c.g);
+  }
+  template <class X, class U, class Pv, class S, class T>
+  static void add_violation(const C& c, const X& x, const U& u, const Pv& p, const S& s, T& v) {
+    const auto g = ad::evaluate(c.g, x, u, p);
+    for (int i = 0; i < C::rows; ++i) {
+      const T lo = T(c.lg[std::size_t(i)]) - s(i) - g[i],
+              hi = g[i] - s(i) - T(c.ug[std::size_t(i)]);
+      v += positive_part(lo) + positive_part(hi);
+    }
+  }
+};
+
+/// psi(c) <= 0: one row grad psi' J_c d <= -psi(c), no lower bound; its Gauss-Newton term is
+/// max(mu, 0) J_c' grad^2 psi J_c (convex psi: positive semidefinite; skipped at mu <= 0).
+template <ad::Expression E, class Psi, bool Soft>
+struct ConstraintKind<ConvexConstraint<E, Psi, Soft>> {
+  using C = ConvexConstraint<E, Psi, Soft>;
+  template <HessianKind H, class Env, class T, int n, class Place>
+  static void linearize(const C& c, const Env& env, MatN<T, n>& hess, Place&& place) {
+    constexpr int m = E::rows;
+    const auto [cv, J] = ad::detail::value_and_jacobian_in(env, c.c);
+    const Eigen::Matrix<T, 1, n> jrow = c.psi.template gradient<T, m>(cv).transpose() * J;
+    const VecN<T, 1> lo = VecN<T, 1>::Constant(-std::numeric_limits<T>::infinity());
+    const VecN<T, 1> hi = VecN<T, 1>::Constant(-c.psi.template value<T, m>(cv));
+    const VecN<T, 1> mu = place(jrow, lo, hi);
+    if constexpr (H == HessianKind::gauss_newton) {
+      const T scale = positive_part(mu[0]);
+      if (!known_zero(scale))
+        add_gauss_newton_lower<jacobian_pattern<Env, E>>(hess, c.psi, VecN<T, m>(cv), J, scale);
+    }
+  }
+  template <int off, class Mu>
+  static auto lagrangian_term(const C& c, const Mu& mu) {
+    return ad::element<off>(mu) * OuterExpr<Psi, E>{c.psi, c.c};
+  }
+  template <class X, class U, class Pv, class S, class T>
+  static void add_violation(const C& c, const X& x, const U& u, const Pv& p, const S& s, T& v) {
+    v += positive_part(c.psi.template value<T, E::rows>(ad::evaluate(c.c, x, u, p)) - s(0));
+  }
+};
 
 /// The scalar stage Lagrangian as an expression in (x, u, p, lam_dyn = Symbol<3, nx>,
 /// mu = Symbol<4, nm>): costs + mu' g (+ mu_i psi_i(c_i)) [- lam_dyn' F].
@@ -177,11 +270,7 @@ auto lagrangian(const Costs& costs, const Cons& cons, const Dyn* dyn) {
     [[maybe_unused]] auto term = [&]<std::size_t J>(std::integral_constant<std::size_t, J>) {
       const auto& c = std::get<J>(cons.terms);
       using C = std::remove_cvref_t<decltype(c)>;
-      constexpr int off = offsets[J];
-      if constexpr (is_convex_constraint_v<C>)
-        return ad::element<off>(mu) * OuterExpr<decltype(c.psi), decltype(c.c)>{c.psi, c.c};
-      else
-        return ad::dot(ad::segment<off, C::rows>(mu), c.g);
+      return ConstraintKind<C>::template lagrangian_term<offsets[J]>(c, mu);
     };
     return (cost_part + ... + term(std::integral_constant<std::size_t, I>{}));
   }
@@ -190,6 +279,133 @@ auto lagrangian(const Costs& costs, const Cons& cons, const Dyn* dyn) {
     return with_cons;
   else
     return with_cons - ad::dot(ad::Symbol<3, NX>{}, *dyn);
+}
+
+/// The constraint rows of a stage as its terms write them (qp/problem.hpp's blocks): C over the
+/// state and, on a path stage, D over the stage input [u; s] (the Jacobians' nu input columns,
+/// then one column per slack), the slacks' costs into r and R. The terminal stage is the stage
+/// with nu = ns = 0: C, lg and ug only.
+template <int nx, int nu, int ns, class Out, class T>
+struct StageRows {
+  Out& out;    ///< the QP stage
+  const T* w;  ///< the stage input [u; s] (read for the slacks only)
+
+  /// The free row (C = 0, D = 0, bounds +-inf) of a stage without constraints.
+  void free_row() {
+    out.C.setZero();
+    if constexpr (nu + ns > 0)
+      out.D.setZero();
+    out.lg.setConstant(-std::numeric_limits<T>::infinity());
+    out.ug.setConstant(std::numeric_limits<T>::infinity());
+  }
+  /// Rows [row, row + m) of [C, D] = [J, 0] (J: m x (nx + nu); zero slack columns).
+  template <int m, class J>
+  void jacobian(int row, const J& j) {
+    out.C.template middleRows<m>(row) = j.template leftCols<nx>();
+    if constexpr (nu + ns > 0) {
+      out.D.template middleRows<m>(row).template leftCols<nu>() = j.template rightCols<nu>();
+      out.D.template middleRows<m>(row).template rightCols<ns>().setZero();
+    }
+  }
+};
+
+/// Writes the QP rows of constraint term c from QP row `row` (its slacks from slack `slack`), the
+/// layout of every kind, and returns its nonlinear rows' multipliers mu from the QP rows' lam_g:
+///   hard               row i: lo_i <= J_i d <= hi_i; mu_i = lam_i
+///   soft, sides = 2    the m lower rows J_i d + ds_i >= lo_i - s_i, then the m upper rows
+///                      J_i d - ds_i <= hi_i + s_i (s_i >= 0 row i's slack, ds_i its step);
+///                      mu_i = the sum of its two rows' multipliers
+///   soft, sides = 1    the upper rows alone (a kind without lower bound); mu_i = lam_i
+/// A soft term's slack costs l1 s + l2 s^2 give r = l1 + 2 l2 s and the diagonal R = 2 l2.
+template <class C, int nx, int nu, int ns, class Out, class T, class J, int m, class Lam>
+VecN<T, m> place_rows(StageRows<nx, nu, ns, Out, T>& rows, const C& c, int row, int slack,
+                      const J& jac, const VecN<T, m>& lo, const VecN<T, m>& hi, const Lam& lam_g) {
+  auto& o = rows.out;
+  VecN<T, m> mu;
+  if constexpr (!C::soft) {
+    rows.template jacobian<m>(row, jac);
+    for (int i = 0; i < m; ++i) {
+      o.lg[row + i] = lo[i];
+      o.ug[row + i] = hi[i];
+      mu[i] = lam_g[row + i];
+    }
+  } else {
+    static_assert(C::sides == 1 || C::sides == 2, "a soft row has an upper and maybe a lower side");
+    const T inf = std::numeric_limits<T>::infinity();
+    constexpr int upper = C::sides == 2 ? m : 0;  // the upper rows' offset
+    for (int i = 0; i < m; ++i) {
+      const int k = nu + slack + i;  // the slack's column in D
+      o.r[k] = T(c.l1) + T(2 * c.l2) * rows.w[k];
+      o.R(k, k) = T(2 * c.l2);
+    }
+    if constexpr (C::sides == 2) {
+      rows.template jacobian<m>(row, jac);
+      for (int i = 0; i < m; ++i) {
+        o.lg[row + i] = lo[i] - rows.w[nu + slack + i];
+        o.ug[row + i] = inf;
+        o.D(row + i, nu + slack + i) = T(1);
+      }
+    }
+    rows.template jacobian<m>(row + upper, jac);
+    for (int i = 0; i < m; ++i) {
+      o.lg[row + upper + i] = -inf;
+      o.ug[row + upper + i] = hi[i] + rows.w[nu + slack + i];
+      o.D(row + upper + i, nu + slack + i) = T(-1);
+      mu[i] = C::sides == 2 ? lam_g[row + i] + lam_g[row + upper + i] : lam_g[row + i];
+    }
+  }
+  return mu;
+}
+
+/// cost += l1 s + l2 s^2 over soft term c's slacks s(0), s(1), ... (place_rows' slack costs).
+template <class C, class S, class T>
+void add_slack_cost(const C& c, const S& s, T& cost) {
+  for (int j = 0; j < C::slacks; ++j)
+    cost += T(c.l1) * s(j) + T(c.l2) * s(j) * s(j);
+}
+
+/// The costs' and constraints' part of a stage's linearisation at the point of env (x, and u on
+/// a path stage, seeded: n variables): grad and, for Gauss-Newton, the lower triangle of hess;
+/// the QP rows into `rows`; mu: the nonlinear rows' multipliers (the exact Hessian's).
+template <HessianKind H, class Costs, class Cons, class Env, class Rows, class Lam, class T, int n,
+          int nm>
+void linearize_terms(const Costs& costs, const Cons& cons, const Env& env, Rows& rows,
+                     const Lam& lam_g, VecN<T, n>& grad, MatN<T, n>& hess, VecN<T, nm>& mu) {
+  add_costs<H>(costs, env, grad, hess);
+  if constexpr (ListSizes<Cons>::qp_rows == 0)
+    rows.free_row();
+  int row = 0, slack = 0, nl = 0;
+  for_each_term(cons.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    ConstraintKind<C>::template linearize<H>(
+        c, env, hess, [&]<int m>(const auto& J, const VecN<T, m>& lo, const VecN<T, m>& hi) {
+          const VecN<T, m> mc = place_rows(rows, c, row, slack, J, lo, hi, lam_g);
+          mu.template segment<m>(nl) = mc;
+          return mc;
+        });
+    row += C::qp_rows;
+    slack += C::slacks;
+    nl += C::rows;
+  });
+}
+
+/// m.cost and m.violation += the terms' cost and constraint violation at (x, u, p) with the
+/// stage's slacks s (none at the terminal stage).
+template <class Costs, class Cons, class X, class U, class Pv, class T>
+void add_term_merit(const Costs& costs, const Cons& cons, const X& x, const U& u, const Pv& p,
+                    const T* s, StageMerit<T>& m) {
+  for_each_term(costs.terms, [&](const auto& c) {
+    constexpr int r = std::remove_cvref_t<decltype(c)>::rows;
+    m.cost += c.phi.template value<T, r>(ad::evaluate(c.r, x, u, p));
+  });
+  int slack = 0;
+  for_each_term(cons.terms, [&](const auto& c) {
+    using C = std::remove_cvref_t<decltype(c)>;
+    const auto si = [&](int i) { return C::soft ? s[slack + i] : T(0); };  // (hard: none)
+    ConstraintKind<C>::add_violation(c, x, u, p, si, m.violation);
+    add_slack_cost(c, si, m.cost);
+    slack += C::slacks;
+  });
 }
 
 }  // namespace detail
@@ -204,7 +420,6 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
                     const VecN<T, P::nx>& lam_dyn, const VecN<T, qp_rows(P::ng)>& lam_g,
                     Stage& st) {
   constexpr int nx = P::nx, nu = P::nu, ns = P::ns, n = nx + nu;
-  const T inf = std::numeric_limits<T>::infinity();
   const VecN<T, nu> u = w.template head<nu>();
   MatN<T, n> hess = MatN<T, n>::Zero();
   VecN<T, n> grad = VecN<T, n>::Zero();
@@ -226,89 +441,10 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
         st.B(i, k) = T(0);
     }
   }
-
-  using Env = std::remove_cvref_t<decltype(env)>;
-  detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
-    constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    constexpr auto pat = detail::jacobian_pattern<Env, decltype(c.r)>;
-    const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
-    detail::add_transposed_product<pat>(grad, J, c.phi.template gradient<T, m>(rv));
-    if constexpr (H == HessianKind::gauss_newton)
-      detail::add_gauss_newton_lower<pat>(hess, c.phi, VecN<T, m>(rv), J, T(1));
-  });
-
-  if constexpr (P::ng == 0) {  // the free row
-    st.C.setZero();
-    st.D.setZero();
-    st.lg.setConstant(-inf);
-    st.ug.setConstant(inf);
-  }
-  int row = 0, slack = 0, nl = 0;
+  detail::StageRows<nx, nu, ns, Stage, T> rows{st, w.data()};
   [[maybe_unused]] VecN<T, (P::nm > 0 ? P::nm : 1)> mu = decltype(mu)::Zero();
-  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
-    using C = std::remove_cvref_t<decltype(c)>;
-    for (int j = 0; j < C::slacks; ++j) {  // slack costs l1 s + l2 s^2
-      const int i = nu + slack + j;
-      st.r[i] = T(c.l1) + T(2 * c.l2) * w[i];
-      st.R(i, i) = T(2 * c.l2);
-    }
-    if constexpr (detail::is_convex_constraint_v<C>) {
-      constexpr int m = decltype(c.c)::rows;
-      const auto [cv, J] = ad::detail::value_and_jacobian_in(env, c.c);
-      const Eigen::Matrix<T, 1, n> jrow = c.psi.template gradient<T, m>(cv).transpose() * J;
-      st.C.row(row) = jrow.template head<nx>();
-      st.D.row(row).template head<nu>() = jrow.template tail<nu>();
-      st.D.row(row).template tail<ns>().setZero();
-      st.lg[row] = -inf;
-      st.ug[row] = -c.psi.template value<T, m>(cv);
-      const T mui = lam_g[row];
-      mu[nl] = mui;
-      if constexpr (H == HessianKind::gauss_newton) {
-        const T scale = positive_part(mui);  // (skipped at a zero or negative multiplier)
-        if (!known_zero(scale))
-          detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
-              hess, c.psi, VecN<T, m>(cv), J, scale);
-      }
-      if constexpr (C::soft) {
-        st.D(row, nu + slack) = T(-1);
-        st.ug[row] += w[nu + slack];  // psi + grad psi' J d - (s + ds) <= 0
-        ++slack;
-      }
-      ++row;
-      ++nl;
-    } else {
-      constexpr int m = C::rows;
-      const auto [gv, J] = ad::detail::value_and_jacobian_in(env, c.g);
-      const int copies = C::soft ? 2 : 1;
-      for (int side = 0; side < copies; ++side) {
-        st.C.template middleRows<m>(row + side * m) = J.template leftCols<nx>();
-        st.D.template middleRows<m>(row + side * m).template leftCols<nu>() =
-            J.template rightCols<nu>();
-        st.D.template middleRows<m>(row + side * m).template rightCols<ns>().setZero();
-      }
-      for (int i = 0; i < m; ++i) {
-        const T lo = T(c.lg[std::size_t(i)]) - gv[i], hi = T(c.ug[std::size_t(i)]) - gv[i];
-        if constexpr (C::soft) {
-          const T si = w[nu + slack + i];  // the current slack
-          st.lg[row + i] = lo - si;        // lower row: J d + ds >= lg - g - s
-          st.ug[row + i] = inf;
-          st.D(row + i, nu + slack + i) = T(1);
-          st.lg[row + m + i] = -inf;  // upper row: J d - ds <= ug - g + s
-          st.ug[row + m + i] = hi + si;
-          st.D(row + m + i, nu + slack + i) = T(-1);
-          mu[nl + i] = lam_g[row + i] + lam_g[row + m + i];
-        } else {
-          st.lg[row + i] = lo;
-          st.ug[row + i] = hi;
-          mu[nl + i] = lam_g[row + i];
-        }
-      }
-      row += C::qp_rows;
-      slack += C::slacks;
-      nl += m;
-    }
-  });
-
+  detail::linearize_terms<H>(prob.path_costs, prob.path_constraints, env, rows, lam_g, grad, hess,
+                             mu);
   if constexpr (H == HessianKind::exact) {
     const auto L =
         detail::lagrangian<nx, P::nm>(prob.path_costs, prob.path_constraints, &prob.dynamics);
@@ -324,60 +460,19 @@ void linearize_path(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu 
 }
 
 /// Linearises the terminal stage (x, p) into `t` (every member but lbx, ubx); lam_g: the
-/// multipliers of its QP rows.
+/// multipliers of its QP rows. The same terms' routine as a path stage's, without input.
 template <HessianKind H, class P, class T, class Terminal>
 void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p,
                         const VecN<T, qp_rows(P::ngn)>& lam_g, Terminal& t) {
   constexpr int nx = P::nx;
-  const T inf = std::numeric_limits<T>::infinity();
   const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();  // terminal terms do not depend on u
   t.Q.setZero();
   t.q.setZero();
   const auto env = ad::detail::jacobian_env<0>(x, u0, p);  // x seeded at Dual<T, nx>
-  using Env = std::remove_cvref_t<decltype(env)>;
-  detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
-    constexpr int m = std::remove_cvref_t<decltype(c)>::rows;
-    constexpr auto pat = detail::jacobian_pattern<Env, decltype(c.r)>;
-    const auto [rv, J] = ad::detail::value_and_jacobian_in(env, c.r);
-    detail::add_transposed_product<pat>(t.q, J, c.phi.template gradient<T, m>(rv));
-    if constexpr (H == HessianKind::gauss_newton)
-      detail::add_gauss_newton_lower<pat>(t.Q, c.phi, VecN<T, m>(rv), J, T(1));
-  });
-  if constexpr (P::ngn == 0) {  // the free row
-    t.C.setZero();
-    t.lg.setConstant(-inf);
-    t.ug.setConstant(inf);
-  }
-  int row = 0;
+  detail::StageRows<nx, 0, 0, Terminal, T> rows{t, nullptr};
   [[maybe_unused]] VecN<T, (P::nmn > 0 ? P::nmn : 1)> mu = decltype(mu)::Zero();
-  detail::for_each_term(prob.terminal_constraints.terms, [&](const auto& c) {
-    using C = std::remove_cvref_t<decltype(c)>;
-    if constexpr (detail::is_convex_constraint_v<C>) {
-      constexpr int m = decltype(c.c)::rows;
-      const auto [cv, J] = ad::detail::value_and_jacobian_in(env, c.c);
-      t.C.row(row) = c.psi.template gradient<T, m>(cv).transpose() * J;
-      t.lg[row] = -inf;
-      t.ug[row] = -c.psi.template value<T, m>(cv);
-      mu[row] = lam_g[row];
-      if constexpr (H == HessianKind::gauss_newton) {
-        const T scale = positive_part(lam_g[row]);
-        if (!known_zero(scale))
-          detail::add_gauss_newton_lower<detail::jacobian_pattern<Env, decltype(c.c)>>(
-              t.Q, c.psi, VecN<T, m>(cv), J, scale);
-      }
-      ++row;
-    } else {
-      constexpr int m = C::rows;
-      const auto [gv, J] = ad::detail::value_and_jacobian_in(env, c.g);
-      t.C.template middleRows<m>(row) = J;
-      for (int i = 0; i < m; ++i) {
-        t.lg[row + i] = T(c.lg[std::size_t(i)]) - gv[i];
-        t.ug[row + i] = T(c.ug[std::size_t(i)]) - gv[i];
-        mu[row + i] = lam_g[row + i];
-      }
-      row += m;
-    }
-  });
+  detail::linearize_terms<H>(prob.terminal_costs, prob.terminal_constraints, env, rows, lam_g, t.q,
+                             t.Q, mu);
   if constexpr (H == HessianKind::exact) {
     const auto L = detail::lagrangian<nx, P::nmn>(prob.terminal_costs, prob.terminal_constraints,
                                                   static_cast<const void*>(nullptr));
@@ -387,13 +482,6 @@ void linearize_terminal(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P:
   }
 }
 
-/// Cost and L1 infeasibility of a path stage (merit function pieces; bounds excluded).
-template <class T>
-struct StageMerit {
-  T cost = T(0);       ///< stage cost, slack costs included
-  T violation = T(0);  ///< sum of |F - x_next| and of the constraints' violations
-};
-
 /// Cost and constraint violation of path stage (x, w = [u; s], p) with successor x_next.
 template <class P, class T>
 StageMerit<T> path_merit(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::nu + P::ns>& w,
@@ -402,31 +490,7 @@ StageMerit<T> path_merit(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P
   const VecN<T, nu> u = w.template head<nu>();
   StageMerit<T> m;
   m.violation = (ad::evaluate(prob.dynamics, x, u, p) - x_next).cwiseAbs().sum();
-  detail::for_each_term(prob.path_costs.terms, [&](const auto& c) {
-    constexpr int r = std::remove_cvref_t<decltype(c)>::rows;
-    m.cost += c.phi.template value<T, r>(ad::evaluate(c.r, x, u, p));
-  });
-  int slack = nu;
-  detail::for_each_term(prob.path_constraints.terms, [&](const auto& c) {
-    using C = std::remove_cvref_t<decltype(c)>;
-    if constexpr (detail::is_convex_constraint_v<C>) {
-      constexpr int r = decltype(c.c)::rows;
-      T v = c.psi.template value<T, r>(ad::evaluate(c.c, x, u, p));
-      if constexpr (C::soft)
-        v -= w[slack];
-      m.violation += v > T(0) ? v : T(0);
-    } else {
-      const auto g = ad::evaluate(c.g, x, u, p);
-      for (int i = 0; i < C::rows; ++i) {
-        const T s = C::soft ? w[slack + i] : T(0);
-        const T lo = T(c.lg[std::size_t(i)]) - s - g[i], hi = g[i] - s - T(c.ug[std::size_t(i)]);
-        m.violation += (lo > T(0) ? lo : T(0)) + (hi > T(0) ? hi : T(0));
-      }
-    }
-    for (int j = 0; j < C::slacks; ++j)
-      m.cost += T(c.l1) * w[slack + j] + T(c.l2) * w[slack + j] * w[slack + j];
-    slack += C::slacks;
-  });
+  detail::add_term_merit(prob.path_costs, prob.path_constraints, x, u, p, w.data() + nu, m);
   return m;
 }
 
@@ -435,24 +499,8 @@ template <class P, class T>
 StageMerit<T> terminal_merit(const P& prob, const VecN<T, P::nx>& x, const VecN<T, P::np>& p) {
   const VecN<T, P::nu> u0 = VecN<T, P::nu>::Zero();
   StageMerit<T> m;
-  detail::for_each_term(prob.terminal_costs.terms, [&](const auto& c) {
-    constexpr int r = std::remove_cvref_t<decltype(c)>::rows;
-    m.cost += c.phi.template value<T, r>(ad::evaluate(c.r, x, u0, p));
-  });
-  detail::for_each_term(prob.terminal_constraints.terms, [&](const auto& c) {
-    using C = std::remove_cvref_t<decltype(c)>;
-    if constexpr (detail::is_convex_constraint_v<C>) {
-      constexpr int r = decltype(c.c)::rows;
-      const T v = c.psi.template value<T, r>(ad::evaluate(c.c, x, u0, p));
-      m.violation += v > T(0) ? v : T(0);
-    } else {
-      const auto g = ad::evaluate(c.g, x, u0, p);
-      for (int i = 0; i < C::rows; ++i) {
-        const T lo = T(c.lg[std::size_t(i)]) - g[i], hi = g[i] - T(c.ug[std::size_t(i)]);
-        m.violation += (lo > T(0) ? lo : T(0)) + (hi > T(0) ? hi : T(0));
-      }
-    }
-  });
+  detail::add_term_merit(prob.terminal_costs, prob.terminal_constraints, x, u0, p,
+                         static_cast<const T*>(nullptr), m);
   return m;
 }
 

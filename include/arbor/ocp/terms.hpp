@@ -10,9 +10,10 @@
 //                              With l1 above the constraint's multiplier the slack stays zero
 //                              whenever the hard problem is feasible (exact penalty); l2 > 0
 //                              alone is a quadratic penalty (never exact).
-// Sizes are compile-time: a term knows its QP rows (`qp_rows`: M, or 2M for a soft two-sided
-// constraint: one row per side with its slack), its slacks (`slacks`) and its nonlinear rows
-// (`rows`). Nothing is evaluated here (linearize.hpp does that).
+// Sizes are compile-time: a constraint term knows its nonlinear rows (`rows`), its slacks
+// (`slacks`: one per row when soft), the sides of a soft row (`sides`: 2 for a lower and an upper
+// QP row, 1 for a kind without lower bound) and from these its QP rows (`qp_rows`). Nothing is
+// evaluated here (linearize.hpp does that, and lays the rows out).
 #pragma once
 
 #include <array>
@@ -24,6 +25,14 @@
 #include "arbor/ocp/outer.hpp"
 
 namespace arbor::ocp {
+
+namespace detail {
+/// QP rows of a constraint term with `rows` nonlinear rows: one per row when hard; when soft,
+/// `sides` per row (a lower and an upper row, or the upper alone), each with the row's slack.
+constexpr int constraint_qp_rows(int rows, bool soft, int sides) {
+  return soft ? sides * rows : rows;
+}
+}  // namespace detail
 
 /// A cost term phi(r(x, u, p)).
 template <ad::Expression E, class Phi>
@@ -37,15 +46,16 @@ struct Cost {
 /// A constraint lg <= g(x, u, p) <= ug (Soft: with one slack per row).
 template <ad::Expression E, bool Soft>
 struct Constraint {
-  static constexpr int rows = E::rows;                    ///< nonlinear rows
-  static constexpr bool soft = Soft;                      ///< has slacks
-  static constexpr int slacks = Soft ? rows : 0;          ///< slack variables
-  static constexpr int qp_rows = Soft ? 2 * rows : rows;  ///< rows in the QP
-  E g;                                                    ///< inner expression
-  std::array<double, std::size_t(rows)> lg;               ///< lower bounds (may be -inf)
-  std::array<double, std::size_t(rows)> ug;               ///< upper bounds (may be +inf)
-  double l1 = 0;                                          ///< slack cost l1 s (Soft only)
-  double l2 = 0;                                          ///< slack cost l2 s^2 (Soft only)
+  static constexpr int rows = E::rows;            ///< nonlinear rows
+  static constexpr bool soft = Soft;              ///< has slacks
+  static constexpr int slacks = Soft ? rows : 0;  ///< slack variables
+  static constexpr int sides = 2;                 ///< QP rows per soft row (lower, upper)
+  static constexpr int qp_rows = detail::constraint_qp_rows(rows, Soft, sides);  ///< in the QP
+  E g;                                       ///< inner expression
+  std::array<double, std::size_t(rows)> lg;  ///< lower bounds (may be -inf)
+  std::array<double, std::size_t(rows)> ug;  ///< upper bounds (may be +inf)
+  double l1 = 0;                             ///< slack cost l1 s (Soft only)
+  double l2 = 0;                             ///< slack cost l2 s^2 (Soft only)
 };
 
 /// A convex-over-nonlinear constraint psi(c(x, u, p)) <= 0 (Soft: psi <= s, s >= 0).
@@ -55,11 +65,12 @@ struct ConvexConstraint {
   static constexpr int rows = 1;               ///< nonlinear rows
   static constexpr bool soft = Soft;           ///< has a slack
   static constexpr int slacks = Soft ? 1 : 0;  ///< slack variables
-  static constexpr int qp_rows = 1;            ///< rows in the QP
-  E c;                                         ///< inner expression
-  Psi psi;                                     ///< outer convex function
-  double l1 = 0;                               ///< slack cost l1 s (Soft only)
-  double l2 = 0;                               ///< slack cost l2 s^2 (Soft only)
+  static constexpr int sides = 1;              ///< QP rows per soft row (upper: psi <= s)
+  static constexpr int qp_rows = detail::constraint_qp_rows(rows, Soft, sides);  ///< in the QP
+  E c;            ///< inner expression
+  Psi psi;        ///< outer convex function
+  double l1 = 0;  ///< slack cost l1 s (Soft only)
+  double l2 = 0;  ///< slack cost l2 s^2 (Soft only)
 };
 
 /// phi(r): a convex-over-nonlinear cost.
