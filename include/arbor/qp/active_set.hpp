@@ -19,8 +19,7 @@
 //   The first iteration of a warm start (the multipliers name at least one inequality) adds
 //   nothing: it steps on the working set they name, and a constraint violated only at the start
 //   point (the NMPC's extrapolated terminal state beyond a velocity bound) is added only if that
-//   step leaves it violated. (Adding it first cost the contour closed loop two iterations per
-//   sample, add and drop: bench/nmpc/RESULTS.md.)
+//   step leaves it violated (adding it first would add and then drop it: two iterations).
 // - The step goes to the solution of the equality-constrained QP of the working set, with a
 //   proximal regularisation centred at the current iterate (delta = reg_primal on x,
 //   epsilon = reg_dual on the active multipliers):
@@ -53,8 +52,8 @@
 //   dropped (QRQP's singular step in multiplier space). Anti-cycling: the last kDropMemory
 //   constraints dropped this way are remembered; a constraint that comes back and would be
 //   dropped again is kept (the error stalls at round-off, not on an inconsistent set), and the
-//   refusal is counted in SolveInfo::cycling_refusals. (Without it, the float Kinova-sized
-//   benchmark problem dropped and re-added the same three bounds until the iteration cap.)
+//   refusal is counted in SolveInfo::cycling_refusals (without the rule, round-off can drop and
+//   re-add the same bounds until the iteration cap: the float Kinova-sized problem of bench/qp).
 // - Ratio test on tau in [0, 1]: inactive constraints may not cross their bound by more than
 //   |a_i| max(tol_primal * scale, current max per-constraint violation) (primal blocking ->
 //   pending add), active multipliers of the right sign may not cross zero (dual break point ->
@@ -79,15 +78,15 @@
 //   |sigma| prove that no point within (1 + bscale) / tol_certificate is feasible (scales of the
 //   data, not of the iterate, which a long step along a free direction may have inflated). On an
 //   inconsistent working set dlam settles on such a direction within a few iterations whatever the
-//   size of H or of the rows (the multipliers themselves, which the former test used, turn slowly
-//   when the cost is large). Two consecutive certificates give `infeasible`.
+//   size of H or of the rows (the multipliers themselves turn slowly when the cost is large).
+//   Two consecutive certificates give `infeasible`.
 // - A full step along a zero-curvature descent direction that no constraint blocks gives
 //   `unbounded`. kStallIterations iterations without a working-set change in which the merit
 //   (largest residual / tolerance) does not fall by 10 % give `stalled`: the rule has nothing
 //   left to change although the test fails (tolerances below the round-off floor, or mutually
 //   inconsistent ones). `stalled` and the iteration cap return the best iterate seen, with its
 //   residuals (the cap: the last one with QpSettings::last_iterate_at_cap).
-// Memory of this part: about 12 NV + 9 NA scalars and 2 (NV + NA) bytes. Cost per iteration: O(NV +
+// Memory of this part: about 14 NV + 9 NA scalars and 2 (NV + NA) bytes. Cost per iteration: O(NV +
 // NA) here plus one backend solve (and one product with A' while the iterate is infeasible, for
 // the certificate), and a (partial) refactorization after a working-set change.
 // Products: evaluate() needs A x, H x and H x + g + lam_x + A' lam. After a step that a
@@ -99,28 +98,23 @@
 // kExactEvery steps, at the iteration cap, and whenever the loop would end on updated ones (the
 // test is repeated on products from scratch): every status and every residual reported belongs
 // to the returned point as computed from the data.
-// Presolved start (presolve(), solve_from(): the NMPC's feedback, whose QP differs from the
-// prepared one only in the targets of the first n bounds, fixed variables of the backend): the
-// preparation computes the products at x = 0, the first step and the residual pass over the
-// constraints after those n; the solve merges the n bounds' residuals into that pass
-// (scan_moved()) and adds to the step its response to the targets' move, one backend solve with
-// only those fixed steps as right-hand side (move_presolved_step()). The step is linear in its
-// right-hand side, so the iterates are solve()'s to round-off. A first iteration that changes
-// the working set (known at presolve(): not from the targets) computes its own step; bounds
-// moved after presolve() (move_bound(): the NMPC's recovery) keep it while the working set holds,
-// with the whole pass again and the moved working targets' response in the same solve.
+// Prepared start (ActiveSetCore::prepare_start(), solve_from(): the NMPC's feedback, whose QP
+// differs from the prepared one only in the targets of x_0's bounds): active_set_prepared.hpp.
 // The linear algebra lives in a backend satisfying ActiveSetBackend (backend.hpp). solve() runs
 // the steps below in this order (iterate()), each a member function: begin() once, then per
-// iteration evaluate() (solve_from()'s first: scan_moved()), settle_farkas() (the previous step's
-// farkas_step()), a second evaluate() from scratch when the loop may end on updated products,
+// iteration evaluate() (solve_from()'s first: scan_moved(); the pass a ResidualScan),
+// settle_farkas() (the previous step's farkas_step()), a second evaluate() from scratch when the
+// loop may end on updated products,
 // converged_or_stopped(), change_working_set(), refactorize(), compute_step() (solve_from()'s
 // first, when nothing changed: move_presolved_step()), ratio_test(), refine_step(),
 // singular_dual_step(), take_step(); finish() once.
 // Files: active_set_core.hpp (the class and the order of the steps), active_set_evaluate.hpp,
-// active_set_step.hpp, active_set_termination.hpp (the steps).
+// active_set_step.hpp, active_set_termination.hpp (the steps), residual_scan.hpp (the pass over
+// the constraints), prepared_start.hpp and active_set_prepared.hpp (the prepared start).
 #pragma once
 
 #include "arbor/qp/active_set_core.hpp"
 #include "arbor/qp/active_set_evaluate.hpp"
+#include "arbor/qp/active_set_prepared.hpp"
 #include "arbor/qp/active_set_step.hpp"
 #include "arbor/qp/active_set_termination.hpp"

@@ -2,7 +2,9 @@
 // workspace and the order of its steps (iterate()); the method is described in active_set.hpp,
 // the steps are defined in active_set_evaluate.hpp (residuals), active_set_step.hpp (working-set
 // change, factorization, step, ratio test) and active_set_termination.hpp (termination tests,
-// certificates, the returned point). Memory: about 12 NV + 9 NA scalars and 2 (NV + NA) bytes.
+// certificates, the returned point), and active_set_prepared.hpp (the prepared start of
+// real-time iteration: prepared_start.hpp). Memory: about 14 NV + 9 NA scalars and 2 (NV + NA)
+// bytes.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,6 +17,8 @@
 
 #include "arbor/core/config.hpp"
 #include "arbor/qp/backend.hpp"
+#include "arbor/qp/prepared_start.hpp"
+#include "arbor/qp/residual_scan.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/status.hpp"
 
@@ -38,12 +42,26 @@ class ActiveSetCore {
   VecA lam_a;                            ///< multipliers of the constraint rows
   std::array<ConstraintState, nz> ws{};  ///< working set
 
+  using Prepared = PreparedStart<Scalar, NV>;
+
   /// x = projection of 0 onto the bounds, all multipliers zero.
   void cold_start() {
     for (int i = 0; i < NV; ++i)
       x(i) = clamp(Scalar(0), lbx(i), ubx(i));
     lam_x.setZero();
     lam_a.setZero();
+    note_change();
+  }
+
+  /// Records a change of what a prepared start depends on (the iterate, the vectors or the
+  /// matrices): every PreparedStart made before it is invalid. The solvers call it for each
+  /// operation that writes them (ActiveSetSolver::set_warm_start(), update(), shift(), ...); the
+  /// steps here call it themselves.
+  void note_change() { ++revision_; }
+  /// Forgets a prefactorization (the matrices changed), and with it every prepared start.
+  void discard_prefactorization() {
+    factor_ = Factor::out_of_date;
+    note_change();
   }
 
   /// Factorizes now what the next solve() factorizes first: the matrix of the working set the
@@ -55,158 +73,65 @@ class ActiveSetCore {
   /// blocks factorized.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
   bool prefactorize(Backend& be, const QpSettings<Scalar>& s, int& stages) {
-    prefactored_ = false;
     begin(be, s);
     SolveInfo<Scalar> info{};
     const bool ok = refactorize(be, s, info) && delta_ == s.reg_primal;
     stages = info.stages_factorized;
-    prefactored_ = ok;
+    factor_ = ok ? Factor::prepared : Factor::out_of_date;
     pre_ws_ = ws;
     pre_w_ = w_;
     return ok;
   }
-  /// Forgets a prefactorization and a presolve (the matrices changed).
-  void discard_prefactorization() {
-    prefactored_ = false;
-    presolved_ = 0;
-  }
-  /// Forgets a presolve (the vectors were re-read).
-  void discard_presolve() { presolved_ = 0; }
 
-  /// prefactorize() and, beyond it, the first step of a solve from x = 0 (x is set to 0 here)
-  /// with the current multipliers and vectors: for the feedback of real-time iteration, whose QP
-  /// differs from the prepared one only in the targets of the first n variables' bounds (the
-  /// OCP's x_0: equalities the backend holds exactly). solve_from() then adds to this step its
-  /// response to the targets' move instead of computing it. Needs a backend with the
-  /// InitialOnly solve (ocp_riccati_backend.hpp) for the step (without one, or when the n
-  /// bounds are not such equalities, only the factorization is kept). Returns prefactorize()'s
-  /// result.
+  /// Real-time iteration's preparation (active_set_prepared.hpp): prefactorize() and the first
+  /// step of a solve from x = 0 (x is set to 0 here) with the current multipliers and vectors,
+  /// for a QP that differs from this one only in the targets of the first n variables' bounds
+  /// (equalities the backend holds exactly: the OCP's x_0). The returned start is valid until
+  /// note_change() (any write of the iterate, the vectors or the matrices, any solve).
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
-  bool presolve(Backend& be, const QpSettings<Scalar>& s, int& stages, int n) {
-    presolved_ = 0;
-    x.setZero();
-    if (!prefactorize(be, s, stages))
-      return false;
-    if constexpr (PathProducts<Backend, Scalar, NV, NA> &&
-                  requires { be.template solve_exact<false, true>(dx_, tmpa_, tmpv_, wa_); }) {
-      for (int i = 0; i < n; ++i) {
-        if (ws[i] != State::equality || !Backend::exact_bound(i))
-          return true;  // the targets' move would not be a step of fixed variables
-      }
-      evaluate(be, true, n);  // (A x = 0, H x = 0: r = g + lam_x + A' lam)
-      // the first iteration's working-set change does not depend on the n targets (x = 0, and
-      // their bounds are equalities, which add and drop nothing): when it will make one, that
-      // iteration computes its own step and the pass alone is kept
-      State side;
-      pre_step_ = due_change(s, side) < 0;
-      if (pre_step_)
-        compute_step<true>(be);
-      pre_rescan_ = false;
-      pre_targets_ = false;
-      presolved_ = n;
-      pre_lam_ = lam_checksum();
-      pre_relative_ = s.relative_regularisation;
-    } else {
-      (void)n;
-    }
-    return true;
-  }
+  [[nodiscard]] Prepared prepare_start(Backend& be, const QpSettings<Scalar>& s, int n);
 
-  /// The solve from x = 0 (set here) with the bounds of the first n variables moved to
-  /// lbx = ubx = t (n values): after presolve() with the same n, when the multipliers are still
-  /// those it saw (the caller has not written them: checked by a checksum) and no vector was
-  /// re-read (update_vectors() discards it), the first iteration takes presolve()'s step plus
-  /// its response to the move (one InitialOnly solve; a full one when move_bound() moved a
-  /// working bound's target) instead of a full evaluation and solve;
-  /// otherwise, and for a first iteration that changes the working set, solve() as usual.
-  /// The same iterates as solve() to round-off.
+  /// The solve from x = 0 with the first n variables' bounds moved to lbx = ubx = t (n values):
+  /// with a valid prepared start for these n targets and the same regularisation settings, the
+  /// first iteration takes its step plus the response to the move (active_set_prepared.hpp);
+  /// otherwise solve(). The same iterates as solve() to round-off.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
   [[nodiscard]] QpStatus solve_from(Backend& be, const QpSettings<Scalar>& s,
-                                    SolveInfo<Scalar>& info, const Scalar* t, int n) {
-    const bool use = presolved_ > 0 && presolved_ == n && prefactored_ && w_ == pre_w_ &&
-                     w_ == h_ / s.reg_dual && delta_ == s.reg_primal &&
-                     s.relative_regularisation == pre_relative_ &&
-                     x.cwiseAbs().sum() == Scalar(0) && lam_checksum() == pre_lam_;
-    pre_n_ = presolved_;  // (scan_moved() passes over these)
-    presolved_ = 0;
-    if (!use) {
-      for (int i = 0; i < n; ++i)
-        lbx(i) = ubx(i) = t[i];
-      x.setZero();
-      return solve(be, s, info);
-    }
-    // presolve()'s begin() built the working set, the row weights and the factorization for
-    // these multipliers: the loop starts without them; tmpv_ carries the fixed steps' move
-    info = SolveInfo<Scalar>{};
-    prefactored_ = false;
-    refactor_ = false;
-    tmpv_.setZero();
-    for (int i = 0; i < n; ++i) {
-      tmpv_(i) = t[i] - lbx(i);
-      lbx(i) = ubx(i) = t[i];
-    }
-    reset_loop();
-    return iterate(be, s, info, true);
-  }
+                                    SolveInfo<Scalar>& info, const Prepared& prepared,
+                                    const Scalar* t, int n);
 
-  /// Sets the bounds of variable i (lo <= hi, not NaN: the caller checks) and keeps a presolve
-  /// when the working set begin() would build from the multipliers with the new bounds is the
-  /// one presolve() factorized (i is not one of its n targets; an equality stays one, lo == hi,
-  /// a one-sided active bound keeps that side finite) and the bound is not one the
-  /// backend holds exactly: solve_from() then passes over every constraint again and, when the
-  /// target of a working bound moved, adds the step's response to that move to the one of the n
-  /// targets (one full backend solve instead of the InitialOnly one). Otherwise the presolve is
-  /// discarded. For the NMPC's recovery, which relaxes state bounds after its preparation.
+  /// Sets the bounds of variable i (lo <= hi, not NaN: the caller checks). prepared (may be null)
+  /// stays valid when the working set its preparation factorized still holds for the new bounds
+  /// (active_set_prepared.hpp); every other prepared start is invalid afterwards.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
-  void move_bound(int i, Scalar lo, Scalar hi) {
-    const Scalar l0 = lbx(i), u0 = ubx(i);
-    lbx(i) = lo;
-    ubx(i) = hi;
-    if (presolved_ == 0 || (lo == l0 && hi == u0))
-      return;
-    const State wi = ws[i];
-    bool keep = i >= presolved_ && (l0 == u0) == (lo == hi) && (wi != State::upper || hi < inf()) &&
-                (wi != State::lower || lo > -inf());
-    if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>)
-      keep = keep && (wi == State::inactive || !Backend::exact_bound(i));
-    if (!keep) {
-      presolved_ = 0;
-      return;
-    }
-    pre_rescan_ = true;
-    const Scalar d = wi == State::upper ? hi - u0 : lo - l0;  // (an equality moves both)
-    if (wi != State::inactive && d != 0 && pre_step_) {
-      dlam_x_(i) += d;  // the pending target move, in the entry the moved step recomputes
-      pre_targets_ = true;
-    }
-  }
+  void move_bound(Prepared* prepared, int i, Scalar lo, Scalar hi);
 
   /// Runs the method from the current (x, lam); fills info; returns the status.
   template <ActiveSetBackend<Scalar, NV, NA> Backend>
   [[nodiscard]] QpStatus solve(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info) {
     info = SolveInfo<Scalar>{};
     begin(be, s);
-    return iterate(be, s, info, false);
+    return iterate(be, s, info, nullptr);
   }
 
  private:
-  /// The iterations of solve() and solve_from() (presolved: the first step is presolve()'s,
-  /// moved by the fixed steps in tmpv_).
+  /// The iterations of solve() and solve_from() (prepared: the first iteration starts from the
+  /// prepared start's pass and step, moved by the fixed steps in fixed_).
   template <typename Backend>
   QpStatus iterate(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
-                   bool presolved) {
+                   const Prepared* prepared) {
     QpStatus status = QpStatus::iteration_limit;
     for (int it = 0;; ++it) {
-      // presolved: the products at x = 0 are presolve()'s and only the first bounds moved:
-      // their residuals merged with presolve()'s pass over the rest (not exact_: a loop that
-      // may end here judges products from scratch, below); at the iteration cap, where the
+      // prepared: the products at x = 0 are the preparation's and only the first bounds moved:
+      // their residuals merged with its pass over the rest (products not from scratch: a loop
+      // that may end here judges products from scratch, below); at the iteration cap, where the
       // loop ends, the products from scratch at once instead of updated and then recomputed
-      if (presolved && it == 0)
-        scan_moved();
+      if (prepared != nullptr && it == 0)
+        scan_moved(*prepared);
       else
-        evaluate(be, exact_next_ || it >= s.max_iter);
+        evaluate(be, next_products_ == Products::from_scratch || it >= s.max_iter);
       settle_farkas(be, s, it);
-      if (!exact_ && may_stop(s, it)) {
+      if (products_ == Products::updated && may_stop(s, it)) {
         evaluate(be, true);  // a loop that ends judges (and reports) products from scratch
         settle_farkas(be, s, it);
       }
@@ -218,17 +143,20 @@ class ActiveSetCore {
         status = QpStatus::non_convex;
         break;
       }
-      if (presolved && it == 0 && !changed && !refactor_ && pre_step_) {
-        move_presolved_step(be);
+      // (a change in the first iteration is known at the preparation, not from the targets:
+      // then the preparation kept no step, and this iteration computes its own)
+      if (prepared != nullptr && it == 0 && !changed && prepared->first_ == Prepared::Reuse::step) {
+        move_presolved_step(be, *prepared);
         info.presolved = true;
       } else {
         compute_step(be);
       }
       Scalar tau = ratio_test(s);
-      if (tau == Scalar(1) && pending_ < 0 && refine_step(be, s))
+      const bool refined = tau == Scalar(1) && pending_ < 0 && refine_step(be, s);
+      if (refined)
         tau = ratio_test(s);
       const Scalar tau_dual = singular_dual_step(s, tau, changed);
-      take_step(be, s, tau, tau_dual, changed);
+      take_step(be, s, tau, tau_dual, changed, refined);
       farkas_pending_ = true;  // the step's certificate test: settle_farkas()
     }
     return finish(be, s, info, status);
@@ -290,26 +218,28 @@ class ActiveSetCore {
   void working_set_from_multipliers();
   /// The scalar residuals below from z = A x, hx = H x and r = H x + g + lam_x + A' lam: with
   /// exact, these products are computed from scratch first, else take_step() updated them.
-  /// split > 0 (presolve()): the pass over the constraints [split, nz) is also kept in pre_scan_.
+  /// kept (prepare_start()): the pass over the constraints [kept->n_, nz) is also kept there,
+  /// with whether every entry it read was finite.
   template <typename Backend>
-  void evaluate(const Backend& be, bool exact = true, int split = 0);
-  /// The running maxima of evaluate()'s pass over the constraints (see there).
-  struct Scan {
-    Scalar pscale = 1, pr = 0, co = 0, pr_abs = 0, co_abs = 0, sd = 0, pc = 0;
-    int isd = -1, ipc = -1;
-    ConstraintState spc = ConstraintState::inactive;
-  };
-  /// evaluate()'s pass over the constraints [from, to), continuing sc.
-  void scan(Scan& sc, int from, int to) const;
-  /// a <- the pass over a's constraints then b's (which follow them).
-  static void merge(Scan& a, const Scan& b);
+  void evaluate(const Backend& be, bool exact = true, Prepared* kept = nullptr);
+  /// What a pass over the constraints reads (ResidualScan).
+  ConstraintValues<Scalar, NV, NA> values() const {
+    return {x, lbx, ubx, lam_x, za_, lba, uba, lam_a, rn_, ws.data()};
+  }
   /// The residual members from a finished pass.
-  void store(const Scan& sc);
-  /// evaluate() after presolve() when only the first pre_n_ bounds moved (solve_from()), or
-  /// bounds after them too (move_bound(): the whole pass again).
-  void scan_moved();
+  void store(const ResidualScan<Scalar>& sc);
+  /// evaluate() in solve_from()'s first iteration: only the first n bounds moved since the
+  /// preparation (their pass merged with its kept one), or bounds after them too (move_bound():
+  /// the whole pass again); the products are the preparation's.
+  void scan_moved(const Prepared& prepared);
   /// The change change_working_set() would make now (-1: none) and the constraint's next state.
   int due_change(const QpSettings<Scalar>& s, State& side) const;
+  /// Whether the first iteration of a warm start is still due (see PreviousStep).
+  bool warm_first() const { return previous_ == PreviousStep::none_warm; }
+  /// The previous iteration left the working set unchanged (its step refined the iterate).
+  bool refining() const { return previous_ == PreviousStep::kept; }
+  /// best_x_ etc. hold an iterate (best_ starts infinite and falls only with one).
+  bool have_best() const { return best_ < inf(); }
   /// True when converged_or_stopped() might end the loop (a conservative test, no side effects).
   bool may_stop(const QpSettings<Scalar>& s, int it) const {
     return !std::isfinite(pr_) || !std::isfinite(du_) || merit_of(s) <= 1 || unbounded_candidate_ ||
@@ -324,26 +254,21 @@ class ActiveSetCore {
   template <typename Backend>
   bool refactorize(Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info);
   /// (dx, dz, dlam): the step to the regularised equality-constrained QP of the working set.
-  /// Presolve (presolve()): only what move_presolved_step() does not recompute (no A dx on the
-  /// path rows, no multiplier steps of the weighted constraints: those of the working bounds are
-  /// zero, move_bound() adds its target moves there).
-  template <bool Presolve = false, typename Backend>
+  /// Prepare (prepare_start()): only what move_presolved_step() does not recompute (no A dx on
+  /// the path rows, no multiplier steps of the weighted constraints, which it sets).
+  template <bool Prepare = false, typename Backend>
   void compute_step(const Backend& be);
-  /// presolve()'s step plus its response to the fixed steps' move in tmpv_ and to the working
-  /// bounds' target moves move_bound() left in dlam_x_ (solve_from()).
+  /// The prepared step plus its response to the fixed steps' move in fixed_ and to the working
+  /// bounds' target moves the prepared start holds (solve_from()'s first iteration).
   template <typename Backend>
-  void move_presolved_step(const Backend& be);
-  /// The multiplier steps after a response d of the step to another right-hand side was added
-  /// (dx_ and dza_ hold it, tmpv_ and tmpa_ the backend's multipliers of the fixed variables and
-  /// exact rows for d: those are added); the weighted constraints' from the new step, w (x - t +
-  /// dx): added (Add: refine_step()'s second proximal step) or set (move_presolved_step(), whose
-  /// presolve() left them free). O(NV + NA).
+  void move_presolved_step(const Backend& be, const Prepared& prepared);
+  /// The multiplier steps after the step's response to another right-hand side was added (dx_
+  /// and dza_ hold the new step, fixed_ and tmpa_ the backend's multipliers of the fixed
+  /// variables and exact rows for the response: those are added); the weighted constraints'
+  /// from the new step, w (x - t + dx): added (Add: refine_step()'s second proximal step) or set
+  /// (move_presolved_step(), whose preparation left them unset). O(NV + NA).
   template <bool Add, typename Backend>
   void response_multipliers();
-  /// Two sums of the multipliers (values, magnitudes): whether presolve()'s still hold.
-  std::array<Scalar, 2> lam_checksum() const {
-    return {lam_x.sum() + lam_a.sum(), lam_x.cwiseAbs().sum() + lam_a.cwiseAbs().sum()};
-  }
   /// A full step that nothing blocks lands on the working set's regularised solution, which
   /// misses the constraints held by weights by eps |dlam_i| |a_i| (per constraint); when that
   /// would fail the primal test, one more proximal step on the same factorization (centred at
@@ -379,9 +304,10 @@ class ActiveSetCore {
       certificate_count_ = 0;
   }
   /// Applies the step and flags a possible unbounded direction.
+  /// refined: refine_step() corrected the step (the next products are computed from scratch).
   template <typename Backend>
   void take_step(const Backend& be, const QpSettings<Scalar>& s, Scalar tau, Scalar tau_dual,
-                 bool changed);
+                 bool changed, bool refined);
   /// Returns the best iterate when the loop did not succeed; final residuals and check.
   template <typename Backend>
   QpStatus finish(const Backend& be, const QpSettings<Scalar>& s, SolveInfo<Scalar>& info,
@@ -409,58 +335,59 @@ class ActiveSetCore {
   State spc_ = State::inactive;  ///< the violated side
 
   // state of the iteration loop
+  /// Where the factorization stands: out of date (the working set changed), current, or
+  /// prepared by prefactorize() for the working set pre_ws_ and weight pre_w_ (the next begin()
+  /// reuses it when it builds the same).
+  enum class Factor : std::uint8_t { out_of_date, current, prepared };
+  /// What the previous iteration did to the working set. none_warm: no iteration yet and the
+  /// multipliers named an inequality (a warm start), whose first iteration adds no constraint
+  /// before one step on the working set they name (a constraint violated only at the start point
+  /// is added only when that step leaves it violated); none: no iteration yet otherwise.
+  enum class PreviousStep : std::uint8_t { none_warm, none, changed, kept };
+  /// How evaluate() obtains A x, H x and r: computed from scratch, or updated by take_step().
+  enum class Products : std::uint8_t { from_scratch, updated };
   Scalar delta_ = 0;                    ///< primal regularisation in use
   Scalar w_ = 0;                        ///< bound weight h / eps
   Scalar h_ = 1;                        ///< curvature scale: largest |H_ii| (1 when H = 0)
   int pending_ = -1;                    ///< index of a pending change from the ratio test
   State pending_ws_ = State::inactive;  ///< its next working-set state
-  bool refactor_ = true;                ///< the factorization is out of date
-  Scalar best_ = 0;                     ///< best merit so far
-  bool have_best_ = false;              ///< best_x_ etc. hold an iterate
-  bool unbounded_candidate_ = false;    ///< the last step was an unbounded-direction candidate
-  int certificate_count_ = 0;           ///< consecutive steps with a Farkas certificate
-  int stall_count_ = 0;                 ///< iterations without a change and without progress
-  Scalar stall_ref_ = 0;                ///< merit at the last change or progress
+  Factor factor_ = Factor::out_of_date;
+  Scalar best_ = 0;                   ///< best merit so far (infinite: none yet)
+  bool unbounded_candidate_ = false;  ///< the last step was an unbounded-direction candidate
+  int certificate_count_ = 0;         ///< consecutive steps with a Farkas certificate
+  int stall_count_ = 0;               ///< iterations without a change and without progress
+  Scalar stall_ref_ = 0;              ///< merit at the last change or progress
   std::array<int, kDropMemory> singular_drops_{};  ///< last constraints the singular step dropped
   int next_drop_ = 0;                              ///< ring position in singular_drops_
   int cycles_ = 0;                                 ///< repeated singular drops refused
-  bool refining_ = false;  ///< the previous iteration left the working set unchanged
-  /// First iteration of a warm start (the multipliers named an inequality): no constraint is
-  /// added before one step on the working set they name
-  bool warm_first_ = false;
-  Scalar pr_prev_ = 0;           ///< primal error of the previous iteration
-  bool exact_ = true;            ///< the last evaluate() computed the products from scratch
-  bool exact_next_ = true;       ///< the next evaluate() computes them from scratch
-  bool refined_ = false;         ///< refine_step() used r_ as workspace in this iteration
+  PreviousStep previous_ = PreviousStep::none;
+  Scalar pr_prev_ = 0;                               ///< primal error of the previous iteration
+  Products products_ = Products::from_scratch;       ///< how the last evaluate() obtained them
+  Products next_products_ = Products::from_scratch;  ///< how the next evaluate() obtains them
   bool farkas_pending_ = false;  ///< the last step's certificate test is still to be made
   int since_exact_ = 0;          ///< steps since the products were last computed from scratch
+  std::uint32_t revision_ = 0;   ///< note_change() count: a PreparedStart is valid while it holds
 
-  VecA za_;                   ///< A x
-  VecV hx_;                   ///< H x
-  VecV r_;                    ///< stationarity residual
-  VecV dx_;                   ///< primal step (also the right-hand side)
-  VecA dza_;                  ///< A dx
-  VecV dlam_x_;               ///< bound-multiplier step
-  VecA dlam_a_;               ///< row-multiplier step
-  VecA tmpa_;                 ///< row workspace
-  VecA wa_;                   ///< regularisation weight of each row, h / (eps |a_j|^2)
-  VecA rn_;                   ///< row norms |a_j| (1 for a zero row)
-  VecV tmpv_;                 ///< variable workspace (certificates)
-  VecV best_x_;               ///< best iterate so far
-  VecV best_lam_x_;           ///< its bound multipliers
-  VecA best_lam_a_;           ///< its row multipliers
-  bool prefactored_ = false;  ///< prefactorize() left a factorization to reuse
-  std::array<ConstraintState, nz> pre_ws_{};  ///< the working set it factorized
+  // vectors: each holds one quantity; scratch ones hold nothing from one step function to the
+  // next
+  VecA za_;          ///< A x
+  VecV hx_;          ///< H x
+  VecV r_;           ///< stationarity residual H x + g + lam_x + A' lam_a
+  VecV dx_;          ///< primal step (its right-hand side while it is computed)
+  VecA dza_;         ///< A dx
+  VecV dlam_x_;      ///< bound-multiplier step
+  VecA dlam_a_;      ///< row-multiplier step
+  VecV fixed_;       ///< the fixed variables' steps in a backend solve, their multipliers out
+  VecV response_;    ///< the step's response to another right-hand side (refinement, x_0 move)
+  VecA tmpa_;        ///< row scratch (right-hand sides; the exact rows' multipliers out)
+  VecV tmpv_;        ///< variable scratch (products of one step function)
+  VecA wa_;          ///< regularisation weight of each row, h / (eps |a_j|^2)
+  VecA rn_;          ///< row norms |a_j| (1 for a zero row)
+  VecV best_x_;      ///< best iterate so far
+  VecV best_lam_x_;  ///< its bound multipliers
+  VecA best_lam_a_;  ///< its row multipliers
+  std::array<ConstraintState, nz> pre_ws_{};  ///< the working set prefactorize() factorized
   Scalar pre_w_ = 0;                          ///< the bound weight it used
-  bool finite_ = true;        ///< every entry the last evaluate()'s pass read was finite
-  Scan pre_scan_{};           ///< presolve()'s pass over the constraints after the moved bounds
-  int presolved_ = 0;         ///< presolve() left the first step for this many targets
-  int pre_n_ = 0;             ///< solve_from()'s moved targets (its first pass)
-  bool pre_step_ = false;     ///< presolve() computed the first step (no change due first)
-  bool pre_rescan_ = false;   ///< move_bound() moved bounds after the targets: the whole pass
-  bool pre_targets_ = false;  ///< ... and targets of working bounds (in dlam_x_)
-  std::array<Scalar, 2> pre_lam_{};  ///< lam_checksum() at presolve()
-  bool pre_relative_ = false;        ///< QpSettings::relative_regularisation at presolve()
 };
 
 }  // namespace arbor::qp::detail

@@ -12,6 +12,8 @@
 
 #include "arbor/qp/active_set_core.hpp"
 #include "arbor/qp/backend.hpp"
+#include "arbor/qp/prepared_start.hpp"
+#include "arbor/qp/residual_scan.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/status.hpp"
 
@@ -31,18 +33,17 @@ void ActiveSetCore<Scalar, NV, NA>::begin(Backend& be, const QpSettings<Scalar>&
   delta_ = s.reg_primal;
   // with relative_regularisation, epsilon relative to the curvature: w = h / reg_dual with h the
   // largest |H_ii| (1 for an LP), so that the weights dominate H by the same factor whatever the
-  // cost's scale (an absolute epsilon let a cost scaled by 100 stall float solves, 1e4 every one;
-  // issue 35); else h = 1 (see settings.hpp for why it is not the default)
+  // cost's scale (with an absolute epsilon, float solves of a cost scaled by 100 stall); else
+  // h = 1 (see settings.hpp for why it is not the default)
   h_ = s.relative_regularisation ? be.hessian_scale() : Scalar(1);
   if (!(h_ > 0) || !std::isfinite(h_))
     h_ = Scalar(1);
   w_ = h_ / s.reg_dual;
   // a prefactorization (prefactorize()) of this very working set and weights is reused once,
   // with the row weights it computed (same matrices: same norms)
-  presolved_ = 0;  // a presolve belongs to the data and iterate it saw (presolve() sets it after)
-  const bool reuse = prefactored_ && w_ == pre_w_ && ws == pre_ws_;
-  prefactored_ = false;
-  refactor_ = !reuse;
+  note_change();  // (the working set and the factorization are this solve's now)
+  const bool reuse = factor_ == Factor::prepared && w_ == pre_w_ && ws == pre_ws_;
+  factor_ = reuse ? Factor::current : Factor::out_of_date;
   if (reuse)
     return reset_loop();
   be.mark_all();
@@ -61,7 +62,6 @@ void ActiveSetCore<Scalar, NV, NA>::reset_loop() {
   pending_ = -1;
   pending_ws_ = State::inactive;
   best_ = inf();
-  have_best_ = false;
   unbounded_candidate_ = false;
   certificate_count_ = 0;
   farkas_pending_ = false;
@@ -70,13 +70,13 @@ void ActiveSetCore<Scalar, NV, NA>::reset_loop() {
   singular_drops_.fill(-1);
   next_drop_ = 0;
   cycles_ = 0;
-  refining_ = false;
   pr_prev_ = inf();
-  warm_first_ = false;
-  exact_next_ = true;
+  next_products_ = Products::from_scratch;
   since_exact_ = 0;
-  for (int i = 0; i < nz && !warm_first_; ++i)
-    warm_first_ = one_sided(i);
+  bool warm = false;
+  for (int i = 0; i < nz && !warm; ++i)
+    warm = one_sided(i);
+  previous_ = warm ? PreviousStep::none_warm : PreviousStep::none;
 }
 
 template <typename Scalar, int NV, int NA>
@@ -104,7 +104,7 @@ void ActiveSetCore<Scalar, NV, NA>::working_set_from_multipliers() {
 
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
-void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, int split) {
+void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, Prepared* kept) {
   if (exact) {
     // A x and H x vanish at x = 0 (the NMPC's QP starts every sample there): no product (the
     // matrices are finite: update() checked them, or its caller, Finiteness::assumed; a sum of
@@ -120,7 +120,7 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, int 
     r_ += hx_ + g + lam_x;
     since_exact_ = 0;
   }
-  exact_ = exact;
+  products_ = exact ? Products::from_scratch : Products::updated;
   du_ = r_.size() > 0 ? r_.cwiseAbs().maxCoeff() : Scalar(0);
   if (!std::isfinite(du_))
     du_ = inf();
@@ -145,108 +145,21 @@ void ActiveSetCore<Scalar, NV, NA>::evaluate(const Backend& be, bool exact, int 
     }
   }
   du_scale_ = dscale;
-  finite_ = finite;
-  Scan sc;
-  if (split > 0) {  // presolve(): the pass over [split, nz) kept for scan_moved()
-    scan(sc, 0, split);
-    pre_scan_ = Scan{};
-    scan(pre_scan_, split, nz);
-    merge(sc, pre_scan_);
+  ResidualScan<Scalar> sc;
+  if (kept != nullptr) {  // prepare_start(): the pass over [n, nz) kept for scan_moved()
+    sc.pass(values(), 0, kept->n_, finite);
+    kept->rest_ = ResidualScan<Scalar>{};
+    kept->rest_.pass(values(), kept->n_, nz, finite);
+    kept->finite_ = finite;
+    sc.merge(kept->rest_);
   } else {
-    scan(sc, 0, nz);
+    sc.pass(values(), 0, nz, finite);
   }
   store(sc);
 }
 
 template <typename Scalar, int NV, int NA>
-void ActiveSetCore<Scalar, NV, NA>::scan(Scan& sc, int from, int to) const {
-  // the scalars are kept in locals (the working set is int8_t, which may alias the members)
-  Scalar pscale = sc.pscale, pr = sc.pr, co = sc.co, pr_abs = sc.pr_abs, co_abs = sc.co_abs;
-  Scalar sd = sc.sd, pc = sc.pc;
-  int isd = sc.isd, ipc = sc.ipc;
-  State spc = sc.spc;
-  const State* w = ws.data();
-  // one body for the bounds (n = 1, folded) and the rows: no branch on i < NV per constraint
-  const auto visit = [&](auto check, int i, Scalar z, Scalar l, Scalar u, Scalar m, Scalar n) {
-    if constexpr (decltype(check)::value) {
-      if (!std::isfinite(z) || !std::isfinite(m)) {
-        pr = inf();
-        pr_abs = inf();
-        return;
-      }
-    }
-    pscale = std::max(pscale, std::abs(z) / n);
-    const Scalar vl = l - z, vu = z - u;
-    const Scalar va = vl > vu ? vl : vu;
-    if (va > pr_abs)
-      pr_abs = va;
-    const Scalar v = va / n;
-    if (v > pr)
-      pr = v;
-    const State wi = w[i];
-    if (v > 0) {
-      const State side = vl > vu ? State::lower : State::upper;
-      if (wi != side && wi != State::equality && v > pc) {
-        pc = v;
-        ipc = i;
-        spc = side;
-      }
-    }
-    if (m != 0) {
-      const Scalar dist =
-          m > 0 ? (u < inf() ? std::abs(u - z) : inf()) : (l > -inf() ? std::abs(z - l) : inf());
-      const Scalar am = std::abs(m);
-      const Scalar c = am < dist ? am : dist;
-      if (c > co_abs)
-        co_abs = c;
-      const Scalar cn = std::min(am * n, dist / n);
-      if (cn > co)
-        co = cn;
-    }
-    if (wi == State::upper || wi == State::lower) {
-      const Scalar wrong = -m * side_sign<Scalar>(wi) * n;
-      if (wrong > sd) {
-        sd = wrong;
-        isd = i;
-      }
-    }
-  };
-  const int bend = std::min(to, NV), rbeg = std::max(from, NV);
-  const auto pass = [&](auto check) {
-    for (int i = from; i < bend; ++i)
-      visit(check, i, x(i), lbx(i), ubx(i), lam_x(i), Scalar(1));
-    for (int j = rbeg - NV; j < to - NV; ++j)
-      visit(check, NV + j, za_(j), lba(j), uba(j), lam_a(j), rn_(j));
-  };
-  if (finite_)
-    pass(std::false_type{});
-  else
-    pass(std::true_type{});
-  sc = Scan{pscale, pr, co, pr_abs, co_abs, sd, pc, isd, ipc, spc};
-}
-
-template <typename Scalar, int NV, int NA>
-void ActiveSetCore<Scalar, NV, NA>::merge(Scan& a, const Scan& b) {
-  // b's constraints follow a's: a maximum moves to b only when b's is strictly larger (the
-  // first index wins, as in one pass)
-  a.pscale = std::max(a.pscale, b.pscale);
-  a.pr = std::max(a.pr, b.pr);
-  a.co = std::max(a.co, b.co);
-  a.pr_abs = std::max(a.pr_abs, b.pr_abs);
-  a.co_abs = std::max(a.co_abs, b.co_abs);
-  if (b.sd > a.sd) {
-    a.sd = b.sd;
-    a.isd = b.isd;
-  }
-  if (b.pc > a.pc) {
-    a.pc = b.pc;
-    a.ipc = b.ipc;
-    a.spc = b.spc;
-  }
-}
-
-template <typename Scalar, int NV, int NA>
-void ActiveSetCore<Scalar, NV, NA>::store(const Scan& sc) {
+void ActiveSetCore<Scalar, NV, NA>::store(const ResidualScan<Scalar>& sc) {
   pr_scale_ = sc.pscale + Scalar(1);
   pr_ = sc.pr;
   co_ = sc.co;
@@ -259,19 +172,4 @@ void ActiveSetCore<Scalar, NV, NA>::store(const Scan& sc) {
   spc_ = sc.spc;
 }
 
-template <typename Scalar, int NV, int NA>
-void ActiveSetCore<Scalar, NV, NA>::scan_moved() {
-  // only the first pre_n_ bounds moved since presolve()'s evaluate(): their pass, then the
-  // rest's as it kept it (or all of it again after move_bound()); the products, du_ and the
-  // scales are presolve()'s
-  Scan sc;
-  if (pre_rescan_) {
-    scan(sc, 0, nz);
-  } else {
-    scan(sc, 0, pre_n_);
-    merge(sc, pre_scan_);
-  }
-  store(sc);
-  exact_ = false;  // (a loop that may end here evaluates from scratch first)
-}
 }  // namespace arbor::qp::detail

@@ -24,7 +24,8 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
   State change_ws;
   const int change = due_change(s, change_ws);
   pending_ = -1;
-  warm_first_ = false;
+  if (previous_ == PreviousStep::none_warm)
+    previous_ = PreviousStep::none;  // (the warm start's first iteration adds nothing: due_change)
   if (change < 0)
     return false;
   ws[change] = change_ws;
@@ -41,7 +42,7 @@ bool ActiveSetCore<Scalar, NV, NA>::change_working_set(Backend& be, const QpSett
     }
   }
   be.mark_changed(change);
-  refactor_ = true;
+  factor_ = Factor::out_of_date;
   ++info.active_set_changes;
   return true;
 }
@@ -55,7 +56,7 @@ int ActiveSetCore<Scalar, NV, NA>::due_change(const QpSettings<Scalar>& s, State
   if (pending_ >= 0) {
     change = pending_;
     side = pending_ws_;
-  } else if (ipc_ >= 0 && !warm_first_ && pc_ > s.tol_primal * pr_scale_ &&
+  } else if (ipc_ >= 0 && !warm_first() && pc_ > s.tol_primal * pr_scale_ &&
              pc_ / (s.tol_primal * pr_scale_) >= sd_ / drop_threshold(s)) {
     change = ipc_;
     side = spc_;
@@ -71,7 +72,7 @@ template <typename Scalar, int NV, int NA>
 template <typename Backend>
 bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Scalar>& s,
                                                 SolveInfo<Scalar>& info) {
-  if (!refactor_)
+  if (factor_ != Factor::out_of_date)
     return true;
   for (;;) {
     const int done = be.factorize(ws.data(), delta_, w_, wa_);
@@ -89,12 +90,12 @@ bool ActiveSetCore<Scalar, NV, NA>::refactorize(Backend& be, const QpSettings<Sc
       return false;
   }
   ++info.factorizations;
-  refactor_ = false;
+  factor_ = Factor::current;
   return true;
 }
 
 template <typename Scalar, int NV, int NA>
-template <bool Presolve, typename Backend>
+template <bool Prepare, typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
   // rows the backend solves exactly (ExactRowBackend: the OCP's dynamics) take no weight
   const auto exact = [](int j) {
@@ -124,13 +125,13 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
     if (ws[i] == State::inactive)
       continue;
     if (exact_bound(i))
-      tmpv_(i) = target(i) - x(i);  // the fixed variable's step
+      fixed_(i) = target(i) - x(i);  // the fixed variable's step
     else
       dx_(i) -= w_ * (x(i) - target(i));
   }
   if constexpr (ExactRowBackend<Backend, Scalar, NV, NA>) {
     // D dx = t_D - D x; the backend returns dlam of the exact rows in their entries of tmpa_,
-    // and of the working exact bounds in theirs of tmpv_
+    // and of the working exact bounds in theirs of fixed_
     for (int j = 0; j < NA; ++j) {
       if (exact(j))
         tmpa_(j) = target(NV + j) - za_(j);
@@ -141,21 +142,21 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
         if (exact(j))
           dza_(j) = tmpa_(j);
       }
-      be.solve_exact(dx_, tmpa_, tmpv_, wa_);
-      if constexpr (!Presolve)
+      be.solve_exact(dx_, tmpa_, fixed_, wa_);
+      if constexpr (!Prepare)
         be.path_mul(dx_, dza_);
     } else {
-      be.solve_exact(dx_, tmpa_, tmpv_, wa_);
+      be.solve_exact(dx_, tmpa_, fixed_, wa_);
       be.cons_mul(dx_, dza_);
     }
   } else {
     be.solve(dx_);
     be.cons_mul(dx_, dza_);
   }
-  if constexpr (Presolve) {
-    // (move_presolved_step() recomputes the weighted ones from the moved step)
+  if constexpr (Prepare) {
+    // (the weighted ones: move_presolved_step(), from the moved step)
     for (int i = 0; i < NV; ++i)
-      dlam_x_(i) = ws[i] == State::inactive ? -lam_x(i) : (exact_bound(i) ? tmpv_(i) : 0);
+      dlam_x_(i) = ws[i] == State::inactive ? -lam_x(i) : (exact_bound(i) ? fixed_(i) : 0);
     for (int j = 0; j < NA; ++j)
       dlam_a_(j) = exact(j) ? tmpa_(j) : (ws[NV + j] != State::inactive ? 0 : -lam_a(j));
     return;
@@ -165,7 +166,7 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
     dlam_x_(i) =
         wi == State::inactive
             ? -lam_x(i)
-            : (exact_bound(i) ? tmpv_(i)
+            : (exact_bound(i) ? fixed_(i)
                               : w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i)));
   }
   for (int j = 0; j < NA; ++j) {
@@ -179,38 +180,6 @@ void ActiveSetCore<Scalar, NV, NA>::compute_step(const Backend& be) {
 }
 
 template <typename Scalar, int NV, int NA>
-template <typename Backend>
-void ActiveSetCore<Scalar, NV, NA>::move_presolved_step(const Backend& be) {
-  if constexpr (PathProducts<Backend, Scalar, NV, NA> &&
-                requires { be.template solve_exact<false, true>(dx_, tmpa_, tmpv_, wa_); }) {
-    // The step is linear in the fixed steps: presolve()'s (dx_, dza_, dlam) plus the solve with
-    // them alone as right-hand side (v = 0, e = 0: InitialOnly), on the same factorization.
-    // hx_ = H x = 0 at x = 0 serves as its v and is zero again afterwards.
-    VecV& d = hx_;
-    d.setZero();
-    tmpa_.setZero();
-    if (pre_targets_) {
-      // and the working bounds' target moves (move_bound()): v = w t there, a full solve
-      for (int i = 0; i < NV; ++i) {
-        if (ws[i] != State::inactive && !Backend::exact_bound(i))
-          d(i) = w_ * dlam_x_(i);
-      }
-      be.template solve_exact<false, false>(d, tmpa_, tmpv_, wa_);
-    } else {
-      be.template solve_exact<false, true>(d, tmpa_, tmpv_, wa_);
-    }
-    dx_ += d;
-    d.setZero();
-    // A dx on the path rows (the exact rows' is e, unchanged); the multiplier steps: the exact
-    // rows' and fixed variables' by the response, the weighted ones from the moved step (x = 0)
-    be.path_mul(dx_, dza_);
-    response_multipliers<false, Backend>();
-  } else {
-    compute_step(be);
-  }
-}
-
-template <typename Scalar, int NV, int NA>
 template <bool Add, typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::response_multipliers() {
   for (int i = 0; i < NV; ++i) {
@@ -218,7 +187,7 @@ void ActiveSetCore<Scalar, NV, NA>::response_multipliers() {
     if (wi == State::inactive)
       continue;
     if (Backend::exact_bound(i)) {
-      dlam_x_(i) += tmpv_(i);
+      dlam_x_(i) += fixed_(i);
     } else {
       const Scalar v = w_ * (x(i) - (wi == State::lower ? lbx(i) : ubx(i)) + dx_(i));
       dlam_x_(i) = Add ? dlam_x_(i) + v : v;
@@ -259,8 +228,7 @@ bool ActiveSetCore<Scalar, NV, NA>::refine_step(const Backend& be, const QpSetti
     }
     if (!(miss > Scalar(0.9) * s.tol_primal * pr_scale_))
       return false;  // the step lands within tolerance (or is not finite: left to the loop)
-    VecV& d = r_;    // workspace: after this step the products are computed from scratch
-    refined_ = true;
+    VecV& d = response_;
     if (rows) {
       for (int j = 0; j < NA; ++j) {
         tmpa_(j) =
@@ -276,14 +244,14 @@ bool ActiveSetCore<Scalar, NV, NA>::refine_step(const Backend& be, const QpSetti
     for (int i = 0; i < NV; ++i) {
       if (ws[i] != State::inactive && !Backend::exact_bound(i))
         d(i) -= dlam_x_(i);
-      tmpv_(i) = 0;
+      fixed_(i) = 0;
     }
     tmpa_.setZero();
     // (e = 0 and the fixed steps are 0: a backend that can skips its products with them)
-    if constexpr (requires { be.template solve_exact<true>(d, tmpa_, tmpv_, wa_); })
-      be.template solve_exact<true>(d, tmpa_, tmpv_, wa_);
+    if constexpr (requires { be.template solve_exact<true>(d, tmpa_, fixed_, wa_); })
+      be.template solve_exact<true>(d, tmpa_, fixed_, wa_);
     else
-      be.solve_exact(d, tmpa_, tmpv_, wa_);
+      be.solve_exact(d, tmpa_, fixed_, wa_);
     dx_ += d;
     if constexpr (PathProducts<Backend, Scalar, NV, NA>)
       be.path_mul(dx_, dza_);  // (D d = 0: the exact rows' A dx is unchanged)
@@ -355,8 +323,8 @@ Scalar ActiveSetCore<Scalar, NV, NA>::singular_dual_step(const QpSettings<Scalar
   // along a null-space direction of A_W'. Follow that direction to the first active multiplier
   // that reaches zero and drop its constraint (QRQP's singular step, in multiplier space).
   Scalar tau_dual = tau;
-  if (tau == Scalar(1) && pending_ < 0 && !changed && refining_ && pr_ > s.tol_primal * pr_scale_ &&
-      pr_ > Scalar(0.5) * pr_prev_) {
+  if (tau == Scalar(1) && pending_ < 0 && !changed && refining() &&
+      pr_ > s.tol_primal * pr_scale_ && pr_ > Scalar(0.5) * pr_prev_) {
     Scalar tmin = inf();
     for (int i = 0; i < nz; ++i) {
       if (!one_sided(i))
@@ -390,24 +358,27 @@ Scalar ActiveSetCore<Scalar, NV, NA>::singular_dual_step(const QpSettings<Scalar
 template <typename Scalar, int NV, int NA>
 template <typename Backend>
 void ActiveSetCore<Scalar, NV, NA>::take_step(const Backend& be, const QpSettings<Scalar>& s,
-                                              Scalar tau, Scalar tau_dual, bool changed) {
-  refining_ = !changed;
+                                              Scalar tau, Scalar tau_dual, bool changed,
+                                              bool refined) {
+  previous_ = changed ? PreviousStep::changed : PreviousStep::kept;
   pr_prev_ = pr_;
   if (tau == Scalar(1) && delta_ * dx_.cwiseAbs().maxCoeff() > s.tol_dual &&
       unboundedness_certificate(be, s)) {
     unbounded_candidate_ = true;  // confirmed if the next iterate is primal feasible
   }
   // The products of the next evaluate(): from scratch after a full step that nothing blocked
-  // (it lands on the working set's solution, so the next evaluate() may well end the loop, which
-  // then needs them from scratch anyway) and every kExactEvery steps (round-off of the updates
-  // does not accumulate); else updated here: A x += tau A dx (the step has A dx), H x += tau H dx,
-  // r += tau H dx + the multipliers' change (the dropped one's exactly) and A' times it.
+  // or a refined one (it lands on the working set's solution, so the next evaluate() may well end
+  // the loop, which then needs them from scratch anyway) and every kExactEvery steps (round-off
+  // of the updates does not accumulate); else updated here: A x += tau A dx (the step has A dx),
+  // H x += tau H dx, r += tau H dx + the multipliers' change (the dropped one's exactly) and A'
+  // times it.
   ++since_exact_;
-  exact_next_ = since_exact_ >= kExactEvery || (tau == Scalar(1) && pending_ < 0) || refined_;
-  refined_ = false;
+  const bool exact_next =
+      since_exact_ >= kExactEvery || (tau == Scalar(1) && pending_ < 0) || refined;
+  next_products_ = exact_next ? Products::from_scratch : Products::updated;
   const int drop = pending_ >= 0 && pending_ws_ == State::inactive ? pending_ : -1;
   x += tau * dx_;
-  if (exact_next_) {
+  if (exact_next) {
     lam_x += tau_dual * dlam_x_;
     lam_a += tau_dual * dlam_a_;
     if (drop >= 0)

@@ -26,7 +26,6 @@ bool ActiveSetCore<Scalar, NV, NA>::converged_or_stopped(const QpSettings<Scalar
   const Scalar merit = merit_of(s);
   if (merit < best_) {
     best_ = merit;
-    have_best_ = true;
     best_x_ = x;
     best_lam_x_ = lam_x;
     best_lam_a_ = lam_a;
@@ -49,7 +48,7 @@ bool ActiveSetCore<Scalar, NV, NA>::converged_or_stopped(const QpSettings<Scalar
   }
   // no working-set change and no progress: the rule has nothing left to change although the
   // termination test fails (round-off floor above the tolerances, or inconsistent tolerances)
-  if (!refining_ || merit < Scalar(0.9) * stall_ref_) {
+  if (!refining() || merit < Scalar(0.9) * stall_ref_) {
     stall_ref_ = merit;
     stall_count_ = 0;
   } else if (++stall_count_ >= kStallIterations) {
@@ -64,7 +63,7 @@ QpStatus ActiveSetCore<Scalar, NV, NA>::finish(const Backend& be, const QpSettin
                                                SolveInfo<Scalar>& info, QpStatus status) {
   const bool keep_last = status == QpStatus::iteration_limit && s.last_iterate_at_cap;
   if (status != QpStatus::solved && status != QpStatus::infeasible &&
-      status != QpStatus::unbounded && have_best_ && !keep_last) {  // iteration_limit, stalled
+      status != QpStatus::unbounded && have_best() && !keep_last) {  // iteration_limit, stalled
     x = best_x_;
     lam_x = best_lam_x_;
     lam_a = best_lam_a_;
