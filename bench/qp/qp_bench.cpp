@@ -120,9 +120,7 @@ void bm_warm(benchmark::State& state) {
   auto& f = fixture<Qp, Backend>();
   QpStatus st = f.solver.setup(f.perturbed, f.settings);
   for (auto _ : state) {
-    f.solver.x() = f.x0;
-    f.solver.lam_x() = f.lx0;
-    f.solver.lam_a() = f.la0;
+    f.solver.set_warm_start(f.x0, f.lx0, f.la0);
     st = f.solver.solve();
     benchmark::DoNotOptimize(f.solver.x().data());
   }
@@ -134,9 +132,7 @@ void bm_update(benchmark::State& state) {
   auto& f = fixture<Qp, Backend>();
   QpStatus st = f.solver.setup(f.perturbed, f.settings);
   for (auto _ : state) {
-    f.solver.x() = f.x0;
-    f.solver.lam_x() = f.lx0;
-    f.solver.lam_a() = f.la0;
+    f.solver.set_warm_start(f.x0, f.lx0, f.la0);
     benchmark::DoNotOptimize(f.solver.update(Convexity::assumed));
     st = f.solver.solve();
     benchmark::DoNotOptimize(f.solver.x().data());

@@ -1,6 +1,7 @@
 // Repeatable measure for RESULTS.md: cold and warm solves per variant, each between callgrind
 // toggles, plus the counters of each solve on stdout. The last measure is the real-time path:
-// the bound problem refilled with the perturbed data, update(Convexity::assumed), solve.
+// the bound problem refilled with the perturbed data, update(Convexity::assumed), solve; then the
+// real-time feedback: prepare_start() and solve_from() with a moved x_0.
 // Every variant runs with the OCP solver's backend (the exact-dynamics Riccati one), and one full
 // factorization is measured on its own ("factor" labels: dynamics rows and x_0 in the working
 // set). (The penalised and reference Cholesky backends' rows of RESULTS.md were measured with
@@ -100,6 +101,18 @@ void run(const char* name) {
       name, arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
       i.active_constraints, double(i.primal_residual), double(i.dual_residual),
       arbor::qp::to_string(su));
+  // real-time feedback: the preparation (the first step for x_0 as the problem has it) and the
+  // solve with x_0 moved to the perturbed problem's, warm-started from the last multipliers
+  std::snprintf(label, sizeof label, "%s/presolve", name);
+  typename OcpQpSolver<Qp, Backend>::PreparedStart prepared;
+  ARBOR_MEASURE(label, (prepared = c.solver.prepare_start()));
+  std::snprintf(label, sizeof label, "%s/presolved_feedback", name);
+  const Eigen::Matrix<Scalar, Qp::nx, 1> x0 = c.perturbed.stage[0].lbx * Scalar(1.001);
+  ARBOR_MEASURE(label, (st = c.solver.solve_from(prepared, x0)));
+  std::printf(
+      "%-10s presolved      %-15s it %3d changes %3d stages %4d (presolve %d, took it %d)\n", name,
+      arbor::qp::to_string(st), i.iterations, i.active_set_changes, i.stages_factorized,
+      prepared.stages_factorized(), int(i.presolved));
   std::printf("%-10s sizeof(solver) %zu bytes, sizeof(problem) %zu bytes\n", name,
               sizeof(OcpQpSolver<Qp, Backend>), sizeof(Qp));
 }

@@ -257,9 +257,11 @@ TEST(QpDense, WarmStartStepsOnItsWorkingSetBeforeAdding) {
   {
     arbor::test::NoAllocScope guard;
     ASSERT_EQ(c.s.setup(c.p), QpStatus::accepted);
-    c.s.x() << 1, 1.5;  // x_2 = 1.5 violates x_2 <= 1
-    c.s.lam_x() << 1, 0;
-    c.s.lam_a() << 0;
+    c.s.edit_warm_start([](auto& x, auto& lam_x, auto& lam_a) {
+      x << 1, 1.5;  // x_2 = 1.5 violates x_2 <= 1
+      lam_x << 1, 0;
+      lam_a << 0;
+    });
     st = c.s.solve();
   }
   ASSERT_EQ(st, QpStatus::solved);
@@ -273,8 +275,10 @@ TEST(QpDense, WarmStartStepsOnItsWorkingSetBeforeAdding) {
   // iteration) the same solution, with x_1 <= 1 added on the way
   {
     arbor::test::NoAllocScope guard;
-    c.s.x() << 1, 1.5;
-    c.s.lam_x().setZero();
+    c.s.edit_warm_start([](auto& x, auto& lam_x, auto&) {
+      x << 1, 1.5;
+      lam_x.setZero();
+    });
     st = c.s.solve();
   }
   ASSERT_EQ(st, QpStatus::solved);

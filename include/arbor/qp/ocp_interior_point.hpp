@@ -117,9 +117,14 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   IpmStatus solve(const Problem& p, const IpmSettings<Scalar>& s = IpmSettings<Scalar>{}) {
     p_ = &p;
     info_ = IpmInfo<Scalar>{};
-    const IpmStatus st = initialize(s);
-    if (st != IpmStatus::converged)
-      return status_ = st;
+    switch (initialize(s)) {
+      case Start::ready:
+        break;
+      case Start::unsupported:
+        return status_ = IpmStatus::unsupported;
+      case Start::non_finite:
+        return status_ = IpmStatus::non_finite;
+    }
     for (;;) {
       const Scalar tau = residuals();
       info_.complementarity = tau;
@@ -207,7 +212,15 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// Index of stage k's first path row in the inequalities' space (k = N: the terminal rows).
   static constexpr int row(int k) { return NV + k * NG; }
 
-  IpmStatus initialize(const IpmSettings<Scalar>& s) {
+  /// What initialize() found: a starting point, or why there is none.
+  enum class Start : unsigned char {
+    ready,        ///< the iterate holds a strictly interior starting point
+    unsupported,  ///< an equality other than x_0's, a NaN bound, or x_0 not fixed and finite
+    non_finite,   ///< NaN or infinite data
+  };
+
+  /// Reads the bounds and the data of the problem and sets the starting point.
+  Start initialize(const IpmSettings<Scalar>& s) {
     const Problem& p = *p_;
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
     scale_ = Scalar(1);
@@ -241,21 +254,21 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       for (int j = 0; j < NX; ++j) {
         if (k == 0) {  // x_0 is fixed
           if (!(st.lbx[j] == st.ubx[j]) || !std::isfinite(st.lbx[j]))
-            return IpmStatus::unsupported;
+            return Start::unsupported;
           w_[j] = st.lbx[j];
           lb_[j] = ub_[j] = st.lbx[j];
           continue;
         }
         if (!bound(ox + j, st.lbx[j], st.ubx[j]))
-          return IpmStatus::unsupported;
+          return Start::unsupported;
       }
       for (int j = 0; j < NU; ++j)
         if (!bound(ou + j, st.lbu[j], st.ubu[j]))
-          return IpmStatus::unsupported;
+          return Start::unsupported;
       const int og = row(k);
       for (int j = 0; j < NG; ++j)
         if (!bound(og + j, st.lg[j], st.ug[j]))
-          return IpmStatus::unsupported;
+          return Start::unsupported;
       for (int j = 0; j < NX; ++j)
         scale_ = std::max(scale_, std::abs(st.b[j]));
       g_.template segment<NX>(ox) = st.q;
@@ -265,14 +278,14 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     const auto& t = p.terminal;
     for (int j = 0; j < NX; ++j)
       if (!bound(Problem::state_offset(N) + j, t.lbx[j], t.ubx[j]))
-        return IpmStatus::unsupported;
+        return Start::unsupported;
     for (int j = 0; j < NGN; ++j)
       if (!bound(row(N) + j, t.lg[j], t.ug[j]))
-        return IpmStatus::unsupported;
+        return Start::unsupported;
     g_.template segment<NX>(Problem::state_offset(N)) = t.q;
     scale_ = std::max(scale_, g_.cwiseAbs().maxCoeff());
     if (!std::isfinite(scale_))
-      return IpmStatus::non_finite;
+      return Start::non_finite;
     // the Newton matrix's working set: x_0 fixed, the dynamics rows, every path row (weighted)
     be_.p = &p;
     for (auto& c : ws_)
@@ -314,7 +327,7 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
     dmu_.setZero();
     if (m_ == 0)
       m_ = 1;
-    return IpmStatus::converged;
+    return Start::ready;
   }
 
   /// z = [v; rows]: the variables, and C x + D u on the path rows (the backend's A v; av_ keeps

@@ -5,9 +5,7 @@
 // algebra: ocp_riccati_backend.hpp (the default: the dynamics rows solved exactly by a backward
 // square-root Riccati recursion, costates from the solve, rank-one sweeps for working-set
 // changes; its products with the stage blocks in ocp_products.hpp, its packed triangular kernels
-// in packed_kernels.hpp and kernels.hpp). The penalised block elimination and the first
-// block-tridiagonal Cholesky that preceded it were retired (issue 38); bench/qp/RESULTS.md keeps
-// their measurements.
+// in packed_kernels.hpp and kernels.hpp).
 // Cost: O(N (NX+NU)^3) per full factorization (one per solve), O(N (NX+NU)^2) per working-set
 // change and per iteration otherwise.
 // Memory (scalars, default backend): N (NW (NW+1)/2) + NX (NX+1)/2 for the factor, about
@@ -27,6 +25,9 @@
 //         refill qp (relinearise);
 //         st = solver.update(Convexity::assumed);  // re-read, no per-stage convexity check
 //         st = solver.solve();
+// The real-time feedback (x_0 measured after the preparation):
+//   auto prepared = solver.prepare_start();     // preparation: factorization, first step
+//   st = solver.solve_from(prepared, x0);       // feedback: the step moved to x0
 // Multipliers follow one sign convention: > 0 means the upper bound is active, < 0 the lower
 // one, and H v + g + lam_x + A' lam_a = 0 in the flat layout of problem.hpp (the dynamics rows
 // are dyn_k = x_{k+1} - A_k x_k - B_k u_k).
@@ -68,6 +69,7 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
  public:
   using Problem = OcpQp<Scalar, N, NX, NU, NG, NGN>;
   using Backend = BackendT;
+  using typename detail::ActiveSetSolver<Scalar, Problem::nv, Problem::na, BackendT>::PreparedStart;
 
   /// Keeps a pointer to p and the settings, then update(Convexity::checked). The current
   /// iterate is kept (warm start); call cold_start() to reset it.
@@ -114,54 +116,64 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return this->conclude(read_terminal_vectors(p->terminal), true);
   }
 
-  /// Real-time iteration's preparation, beyond prefactorize(): also the first step of the next
-  /// solve_from_initial_state() from x = 0 (x is set to 0 here) with the current multipliers and
-  /// the vectors as read, for the initial state's bounds as they are (lbx_0 = ubx_0); the
-  /// feedback then adds that step's response to x_0's move (a forward Riccati sweep; a full solve
-  /// after set_state_bounds() moved a working bound's target) instead of
-  /// evaluating and solving. Returns the blocks factorized, or -1 when nothing will be reused
-  /// (then solve_from_initial_state() is solve() from x = 0). setup(), update(),
-  /// update_vectors(), solve(), prefactorize(), shift() and the writable views x(), lam_x(),
-  /// lam_a() discard it.
-  int presolve() {
+  /// Real-time iteration's preparation, beyond prefactorize(): also the first step of a solve
+  /// from x = 0 (x is set to 0 here) with the current multipliers and the vectors as read, for
+  /// x_0's bounds as they are (lbx_0 = ubx_0). solve_from() moves that step to the measured x_0
+  /// (a forward Riccati sweep) instead of evaluating and solving. The returned start is valid
+  /// until the next operation that writes the iterate, the vectors or the matrices: setup(),
+  /// update(), update_vectors(), solve(), solve_from(), prefactorize(), prepare_start(), shift(),
+  /// set_warm_start(), edit_warm_start(), set_state_bounds() (which may keep the one it is
+  /// given); its stages_factorized() is -1 when nothing will be reused.
+  [[nodiscard]] PreparedStart prepare_start() {
     if (!this->ready_)
-      return -1;
-    int stages = 0;
-    const bool ok = this->core_.presolve(this->be_, this->settings_, stages, NX);
-    return ok ? stages : -1;
+      return PreparedStart{};
+    return this->core_.prepare_start(this->be_, this->settings_, NX);
   }
 
   /// The solve from x = 0 with x_0's bounds set to x0 (lbx_0 = ubx_0 = x0; in the solver's copy
-  /// of the vectors, the problem is not written) and the multipliers as warm start: after
-  /// presolve(), when the multipliers were not written since (a checksum of them is compared),
-  /// its first iteration reuses presolve()'s work; the same iterates as solve() to round-off.
-  /// For the feedback of real-time iteration, whose QP differs from the prepared one in x_0
-  /// only. Returns not_setup, non_finite (x0; nothing changed), or solve()'s status.
-  [[nodiscard]] QpStatus solve_from_initial_state(const Eigen::Matrix<Scalar, NX, 1>& x0) {
+  /// of the vectors, the problem is not written) and the multipliers as warm start; with a valid
+  /// prepared start, its first iteration reuses the preparation's work (the same iterates as
+  /// solve() to round-off), otherwise it is solve(). For the feedback of real-time iteration,
+  /// whose QP differs from the prepared one in x_0 only. Returns not_setup, non_finite (x0;
+  /// nothing changed), or solve()'s status.
+  [[nodiscard]] QpStatus solve_from(const PreparedStart& prepared,
+                                    const Eigen::Matrix<Scalar, NX, 1>& x0) {
     if (!this->ready_)
       return QpStatus::not_setup;
     if (!detail::all_finite(x0))
       return QpStatus::non_finite;
-    return this->core_.solve_from(this->be_, this->settings_, this->info_, x0.data(), NX);
+    return this->core_.solve_from(this->be_, this->settings_, this->info_, prepared, x0.data(), NX);
   }
 
   /// Sets the state bounds of stage k (1 <= k <= N; N: the terminal's) in the solver's copy of
   /// the vectors (the problem is not written; the next update() or update_vectors() reads its
   /// own again): for the real-time feedback's recovery, which relaxes state bounds the measured
-  /// x_0 cannot meet after presolve(). A presolve is kept when the working set it factorized is
-  /// still the one the multipliers name for the new bounds (ActiveSetCore::move_bound(): the
-  /// first iteration then passes over every constraint again, and adds the response to a moved
-  /// working bound's target with one full solve), otherwise discarded. Returns accepted, or
-  /// non_finite / invalid_bounds (NaN, lb > ub, lb = +inf, ub = -inf: nothing changed).
+  /// x_0 cannot meet after prepare_start(). prepared stays valid when the working set it
+  /// factorized is still the one the multipliers name for the new bounds (the first iteration
+  /// then passes over every constraint again, and adds the response to a moved working bound's
+  /// target with one full solve); every other prepared start is invalid afterwards. Returns
+  /// accepted, or non_finite / invalid_bounds (NaN, lb > ub, lb = +inf, ub = -inf: nothing
+  /// changed).
+  [[nodiscard]] QpStatus set_state_bounds(PreparedStart& prepared, int k,
+                                          const Eigen::Matrix<Scalar, NX, 1>& lb,
+                                          const Eigen::Matrix<Scalar, NX, 1>& ub) {
+    return move_state_bounds(&prepared, k, lb, ub);
+  }
+
+  // TODO(house-merge): controller moves to `prepared_ = solver_.prepare_start()` (a member of
+  // the controller) and prepared_.stages_factorized(); remove (with legacy_prepared_)
+  int presolve() {
+    legacy_prepared_ = prepare_start();
+    return legacy_prepared_.stages_factorized();
+  }
+  // TODO(house-merge): controller moves to solve_from(prepared_, x0); remove
+  [[nodiscard]] QpStatus solve_from_initial_state(const Eigen::Matrix<Scalar, NX, 1>& x0) {
+    return solve_from(legacy_prepared_, x0);
+  }
+  // TODO(house-merge): controller moves to set_state_bounds(prepared_, k, lb, ub); remove
   [[nodiscard]] QpStatus set_state_bounds(int k, const Eigen::Matrix<Scalar, NX, 1>& lb,
                                           const Eigen::Matrix<Scalar, NX, 1>& ub) {
-    ARBOR_ASSERT(k >= 1 && k <= N, "state bounds of stages 1..N (x_0's: solve_from_initial_state)");
-    if (const QpStatus c = detail::check_bounds(lb, ub); c != QpStatus::accepted)
-      return c;
-    const int o = Problem::state_offset(k);
-    for (int i = 0; i < NX; ++i)
-      this->core_.template move_bound<Backend>(o + i, lb(i), ub(i));
-    return QpStatus::accepted;
+    return move_state_bounds(&legacy_prepared_, k, lb, ub);
   }
 
   /// Moves the primal and dual solution one stage earlier, for the warm start of the next
@@ -171,7 +183,7 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   /// since solve() rebuilds it from the multipliers' signs. Cost: one copy of the iterate.
   void shift() {
     auto& c = this->core_;
-    c.discard_presolve();
+    c.note_change();
     shift_variables(c.x);
     shift_variables(c.lam_x);
     shift_rows(c.lam_a);
@@ -233,6 +245,18 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   auto terminal_constraint_multiplier() const { return this->core_.lam_a.template tail<NGN>(); }
 
  private:
+  /// set_state_bounds(): prepared may be null (then every prepared start is invalid afterwards).
+  QpStatus move_state_bounds(PreparedStart* prepared, int k, const Eigen::Matrix<Scalar, NX, 1>& lb,
+                             const Eigen::Matrix<Scalar, NX, 1>& ub) {
+    ARBOR_ASSERT(k >= 1 && k <= N, "state bounds of stages 1..N (x_0's: solve_from)");
+    if (const QpStatus c = detail::check_bounds(lb, ub); c != QpStatus::accepted)
+      return c;
+    const int o = Problem::state_offset(k);
+    for (int i = 0; i < NX; ++i)
+      this->core_.template move_bound<Backend>(prepared, o + i, lb(i), ub(i));
+    return QpStatus::accepted;
+  }
+
   /// Checks path stage k and copies its vectors into the flat arrays.
   QpStatus read_stage(int k, const typename Problem::Stage& st, bool check_convexity,
                       bool check_finite) {
@@ -329,6 +353,10 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     c.lba.template tail<NGN>() = t.lg;
     c.uba.template tail<NGN>() = t.ug;
   }
+
+  // TODO(house-merge): the prepared start of presolve(), solve_from_initial_state() and
+  // set_state_bounds(k, ...); remove with them
+  PreparedStart legacy_prepared_{};
 };
 
 }  // namespace arbor::qp

@@ -8,6 +8,7 @@
 
 #include "arbor/qp/active_set.hpp"
 #include "arbor/qp/backend.hpp"
+#include "arbor/qp/prepared_start.hpp"
 #include "arbor/qp/settings.hpp"
 #include "arbor/qp/status.hpp"
 
@@ -24,6 +25,8 @@ class ActiveSetSolver {
   static constexpr int na = NA;  ///< constraint rows
   using VecV = Eigen::Matrix<Scalar, NV, 1>;
   using VecA = Eigen::Matrix<Scalar, NA, 1>;
+  /// What a preparation leaves for the next solve (OcpQpSolver::prepare_start()).
+  using PreparedStart = detail::PreparedStart<Scalar, NV>;
 
   /// Resets the iterate: x = projection of 0 onto the bounds, multipliers 0.
   void cold_start() {
@@ -31,8 +34,8 @@ class ActiveSetSolver {
     initialized_ = true;
   }
 
-  /// Solves from the current iterate (warm start: the last solution, or values written through
-  /// x(), lam_x(), lam_a()); not_setup unless the last setup()/update() was accepted.
+  /// Solves from the current iterate (warm start: the last solution, or set_warm_start(),
+  /// edit_warm_start()); not_setup unless the last setup()/update() was accepted.
   [[nodiscard]] QpStatus solve() {
     if (!ready_)
       return QpStatus::not_setup;
@@ -53,26 +56,47 @@ class ActiveSetSolver {
     return core_.prefactorize(be_, settings_, stages) ? stages : -1;
   }
 
-  // (the writable views discard a presolve, OcpQpSolver::presolve(): it belongs to the iterate
-  // it saw; a reference kept from before it is not watched, beyond a checksum of the multipliers)
-  /// Flat primal iterate / solution (writable: a warm start).
-  VecV& x() {
-    core_.discard_presolve();
-    return core_.x;
+  /// Sets the warm start of the next solve: the primal iterate and the multipliers (> 0: upper
+  /// bound active, < 0: lower bound active). Invalidates every prepared start.
+  void set_warm_start(const VecV& x, const VecV& lam_x, const VecA& lam_a) {
+    core_.x = x;
+    core_.lam_x = lam_x;
+    core_.lam_a = lam_a;
+    core_.note_change();
   }
+  /// Edits the warm start in place: edit(x, lam_x, lam_a) with writable references that are
+  /// valid only during the call (e.g. x.setZero(), a shift of the multipliers). Invalidates
+  /// every prepared start.
+  template <class Edit>
+  void edit_warm_start(Edit&& edit) {
+    edit(core_.x, core_.lam_x, core_.lam_a);
+    core_.note_change();
+  }
+
+  /// Flat primal iterate / solution.
   const VecV& x() const { return core_.x; }
   /// Multipliers of the variable bounds (> 0: upper bound active, < 0: lower bound active).
-  VecV& lam_x() {
-    core_.discard_presolve();
-    return core_.lam_x;
-  }
   const VecV& lam_x() const { return core_.lam_x; }
   /// Multipliers of the rows (same sign convention); stationarity: H x + g + lam_x + A' lam_a = 0.
+  const VecA& lam_a() const { return core_.lam_a; }
+
+  // TODO(house-merge): controller moves to edit_warm_start() (writes) and the const views
+  // (reads); remove. Writable views: calling one invalidates every prepared start (a reference
+  // kept across a preparation is not watched).
+  VecV& x() {
+    core_.note_change();
+    return core_.x;
+  }
+  // TODO(house-merge): controller moves to edit_warm_start() / const lam_x(); remove
+  VecV& lam_x() {
+    core_.note_change();
+    return core_.lam_x;
+  }
+  // TODO(house-merge): controller moves to edit_warm_start() / const lam_a(); remove
   VecA& lam_a() {
-    core_.discard_presolve();
+    core_.note_change();
     return core_.lam_a;
   }
-  const VecA& lam_a() const { return core_.lam_a; }
   /// Report of the last solve.
   const SolveInfo<Scalar>& info() const { return info_; }
   /// Settings in use (may be changed between solves).
@@ -82,12 +106,11 @@ class ActiveSetSolver {
  protected:
   /// Ends a setup()/update(): the solver is ready exactly when st is accepted; the iterate is
   /// cold-started the first time, kept (warm start) afterwards; a prefactorization is discarded
-  /// unless only vectors were read (keep_factorization); a presolve (OcpQpSolver::presolve()) is
-  /// discarded always.
+  /// unless only vectors were read (keep_factorization); every prepared start is invalid.
   QpStatus conclude(QpStatus st, bool keep_factorization = false) {
     if (!keep_factorization)
       core_.discard_prefactorization();
-    core_.discard_presolve();  // (the vectors were re-read in any case)
+    core_.note_change();  // (the vectors were re-read in any case)
     ready_ = st == QpStatus::accepted;
     if (ready_ && !initialized_)
       cold_start();
