@@ -301,10 +301,10 @@ class Nmpc {
     // (and, unless the feedback runs the interior-point cold start, the QP's first step for
     // this x_0: the feedback moves it to the measured one, qp::OcpQpSolver::presolve)
     if (update_qp() == qp::QpStatus::accepted) {
-      if (settings_.presolve_feedback && !cold_start_due())
-        presolved_ = vectors_only_ = solver_.presolve() >= 0;  // (x_0 moved by solve_from)
+      if (settings_.presolve_feedback && !cold_start_due())  // (x_0 moved by solve_from)
+        prepared_qp_ = solver_.presolve() >= 0 ? PreparedQp::presolved : PreparedQp::none;
       else
-        vectors_only_ = solver_.prefactorize() >= 0;
+        prepared_qp_ = solver_.prefactorize() >= 0 ? PreparedQp::factorized : PreparedQp::none;
     }
     prepared_ = true;
     return NmpcStatus::prepared;
@@ -383,8 +383,7 @@ class Nmpc {
   template <ocp::HessianKind K>
   [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
-    vectors_only_ = false;  // new matrices: the QP reads everything again
-    presolved_ = false;
+    prepared_qp_ = PreparedQp::none;  // new matrices: the QP reads everything again
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
     int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
@@ -498,6 +497,11 @@ class Nmpc {
   }
 
  private:
+  /// What prepare() left in the QP solver for the next solve, for the current matrices:
+  /// nothing (the solve updates and factorizes everything), the factorization for the
+  /// multipliers' working set (the solve re-reads only the vectors), or with it the first step
+  /// for the predicted x_0 (the solve moves that step to the measured x_0, re-reading nothing).
+  enum class PreparedQp : unsigned char { none, factorized, presolved };
   /// Relaxes, on stages 1..recovery_stages of the QP, the state bounds that the measured x0
   /// violates (judged against the bounds of stage 0) to the straight line from x0's value back
   /// to the bound at stage recovery_stages + 1. Records the violation; true when it relaxed.
@@ -521,8 +525,9 @@ class Nmpc {
           lb[j] = std::fmin(lb[j], lbx_[i][j] - frac * under[j] - x_[i][j]);
       }
       // a presolved QP takes them into its own copy (kept when its working set still holds)
-      if (presolved_ && solver_.set_state_bounds(k, lb, ub) != qp::QpStatus::accepted)
-        presolved_ = false;
+      if (prepared_qp_ == PreparedQp::presolved &&
+          solver_.set_state_bounds(k, lb, ub) != qp::QpStatus::accepted)
+        prepared_qp_ = PreparedQp::factorized;
     }
     return true;
   }
@@ -622,11 +627,12 @@ class Nmpc {
   /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve;
   /// the QP's status.
   qp::QpStatus solve_prepared_qp() {
-    const bool fresh = qp_setup_ && applied_qp_ == settings_.qp;  // the QP as prepare() left it
-    const bool vectors = vectors_only_ && fresh;
-    const bool presolved = presolved_ && vectors;
-    vectors_only_ = false;
-    presolved_ = false;
+    // what prepare() left, valid while the QP runs with the settings it was prepared with
+    const PreparedQp prepared =
+        qp_setup_ && applied_qp_ == settings_.qp ? prepared_qp_ : PreparedQp::none;
+    prepared_qp_ = PreparedQp::none;  // (consumed by this solve)
+    const bool vectors = prepared != PreparedQp::none;
+    const bool presolved = prepared == PreparedQp::presolved;
     // the feedback's bound on the QP's iterations, else the settings' cap
     const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
     if (presolved) {  // only x_0's bounds changed since prepare(): its step, moved to them
@@ -788,15 +794,14 @@ class Nmpc {
   std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
   int merit_count_ = 0;                   ///< accepted points in the merit history
   Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
-  StopLaw stop_law_ = nullptr;     ///< the fallback's stop law (set_stop_law)
-  void* stop_user_ = nullptr;      ///< its user pointer
-  int failed_samples_ = 0;         ///< consecutive calls whose QP failed
-  int qp_cap_ = 0;                 ///< feedback(): the bound on the QP's iterations (0: none)
-  bool limited_ = false;           ///< the last QP stopped at that bound
-  bool vectors_only_ = false;      ///< prepare() set up and prefactorized the QP: read its vectors
-  bool presolved_ = false;         ///< prepare() presolved the QP: the feedback moves x_0 only
-  bool matrices_checked_ = false;  ///< linearize_as() found every QP matrix finite
-  ColdStart* ipm_ = nullptr;       ///< the QP's interior-point cold start (caller's; nullptr: off)
+  StopLaw stop_law_ = nullptr;  ///< the fallback's stop law (set_stop_law)
+  void* stop_user_ = nullptr;   ///< its user pointer
+  int failed_samples_ = 0;      ///< consecutive calls whose QP failed
+  int qp_cap_ = 0;              ///< feedback(): the bound on the QP's iterations (0: none)
+  bool limited_ = false;        ///< the last QP stopped at that bound
+  PreparedQp prepared_qp_ = PreparedQp::none;  ///< what prepare() left in the solver
+  bool matrices_checked_ = false;              ///< linearize_as() found every QP matrix finite
+  ColdStart* ipm_ = nullptr;  ///< the QP's interior-point cold start (caller's; nullptr: off)
   bool (*cold_start_)(Nmpc&) = nullptr;  ///< run_cold_start when ipm_ is set
 };
 
