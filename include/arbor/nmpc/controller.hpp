@@ -326,17 +326,15 @@ class Nmpc {
     info_.qp_presolved = false;  // (set by a solve that ran)
     // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
     // the bound is a step too
-    qp_cap_ = settings_.feedback_qp_iterations;
-    const NmpcStatus qs = solve_qp();
-    qp_cap_ = 0;
-    if (qs == NmpcStatus::qp_failed)
+    const QpStep qs = solve_qp(qp_budget(settings_.feedback_qp_iterations));
+    if (qs.status == NmpcStatus::qp_failed)
       return after_qp_failure(x0);
-    if (qs != NmpcStatus::step_taken)
-      return qs;
+    if (qs.status != NmpcStatus::step_taken)
+      return qs.status;
     failed_samples_ = 0;
     info_.failed_samples = 0;
     (void)take_step(Scalar(1));
-    if (limited_) {
+    if (qs.capped) {
       // the iterate of an unfinished QP: its dynamics hold (the Riccati solve meets them
       // exactly), the inputs outside the working set may lie beyond their bounds: clipped, and
       // x_0 is the measurement (the QP may have stopped short of it)
@@ -429,28 +427,11 @@ class Nmpc {
 
   /// QP construction (update: the solver re-reads the vectors) and solve, warm-started at d = 0
   /// with the current multipliers. Returns step_taken (the step is in the solver) or qp_failed.
-  [[nodiscard]] NmpcStatus solve_qp() {
-    const qp::QpStatus st = solve_prepared_qp();
-    if constexpr (H == ocp::HessianKind::exact) {
-      if (st == qp::QpStatus::non_convex) {  // this iteration: the Gauss-Newton Hessian
-        info_.qp_iterations += solver_.info().iterations;
-        return gauss_newton_step();
-      }
-    }
-    return finish_qp(st);
-  }
+  [[nodiscard]] NmpcStatus solve_qp() { return solve_qp(qp_budget(0)).status; }
 
   /// The exact-Hessian controller's fallback for one iteration: relinearises with the
   /// Gauss-Newton Hessian (convex by construction) and solves the QP again.
-  [[nodiscard]] NmpcStatus gauss_newton_step() {
-    ++info_.hessian_fallbacks;
-    const NmpcStatus lin = linearize_as<ocp::HessianKind::gauss_newton>();
-    if (lin != NmpcStatus::prepared)
-      return lin;
-    embed(embedded_);
-    const qp::QpStatus st = solve_prepared_qp();
-    return finish_qp(st);
-  }
+  [[nodiscard]] NmpcStatus gauss_newton_step() { return gauss_newton_step(qp_budget(0)).status; }
 
   /// Backtracking on the L1 merit along the solver's step (see the top of this file); takes the
   /// accepted step. Returns step_taken or line_search_failed (plan unchanged).
@@ -497,6 +478,48 @@ class Nmpc {
   }
 
  private:
+  /// The bound on one QP solve's iterations: the settings' cap, or a caller's smaller bound, at
+  /// which the QP's last iterate is a step (qp::QpSettings::last_iterate_at_cap).
+  struct QpBudget {
+    int max_iter;
+    bool last_iterate_at_cap;
+  };
+  /// A QP solve's outcome: step_taken (the step is in the solver), qp_failed, or the exact
+  /// Hessian's Gauss-Newton redo's non_finite_evaluation; capped: the QP stopped at its
+  /// budget's bound before it was solved (its last iterate is the step).
+  struct QpStep {
+    NmpcStatus status;
+    bool capped;
+  };
+
+  /// The budget of a QP solve bounded by `bound` iterations (0: the settings' cap only).
+  QpBudget qp_budget(int bound) const {
+    const bool bounded = bound > 0 && bound < settings_.qp.max_iter;
+    return {bounded ? bound : settings_.qp.max_iter, bounded};
+  }
+
+  /// solve_qp() within budget b.
+  QpStep solve_qp(QpBudget b) {
+    const qp::QpStatus st = solve_prepared_qp(b);
+    if constexpr (H == ocp::HessianKind::exact) {
+      if (st == qp::QpStatus::non_convex) {  // this iteration: the Gauss-Newton Hessian
+        info_.qp_iterations += solver_.info().iterations;
+        return gauss_newton_step(b);
+      }
+    }
+    return finish_qp(st, b);
+  }
+
+  /// gauss_newton_step() within budget b.
+  QpStep gauss_newton_step(QpBudget b) {
+    ++info_.hessian_fallbacks;
+    const NmpcStatus lin = linearize_as<ocp::HessianKind::gauss_newton>();
+    if (lin != NmpcStatus::prepared)
+      return {lin, false};
+    embed(embedded_);
+    return finish_qp(solve_prepared_qp(b), b);
+  }
+
   /// What prepare() left in the QP solver for the next solve, for the current matrices:
   /// nothing (the solve updates and factorizes everything), the factorization for the
   /// multipliers' working set (the solve re-reads only the vectors), or with it the first step
@@ -557,7 +580,8 @@ class Nmpc {
       qp_.terminal.ubx.setConstant(inf);
       qp_.terminal.lg.setConstant(-inf);
       qp_.terminal.ug.setConstant(inf);
-      if (finish_qp(solve_prepared_qp()) == NmpcStatus::step_taken) {
+      const QpBudget b = qp_budget(0);
+      if (finish_qp(solve_prepared_qp(b), b).status == NmpcStatus::step_taken) {
         (void)take_step(Scalar(1));
         return NmpcStatus::fallback_relaxed;
       }
@@ -624,27 +648,25 @@ class Nmpc {
     return st;
   }
 
-  /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve;
-  /// the QP's status.
-  qp::QpStatus solve_prepared_qp() {
+  /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve
+  /// within budget b; the QP's status.
+  qp::QpStatus solve_prepared_qp(QpBudget b) {
     // what prepare() left, valid while the QP runs with the settings it was prepared with
     const PreparedQp prepared =
         qp_setup_ && applied_qp_ == settings_.qp ? prepared_qp_ : PreparedQp::none;
     prepared_qp_ = PreparedQp::none;  // (consumed by this solve)
     const bool vectors = prepared != PreparedQp::none;
     const bool presolved = prepared == PreparedQp::presolved;
-    // the feedback's bound on the QP's iterations, else the settings' cap
-    const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
     if (presolved) {  // only x_0's bounds changed since prepare(): its step, moved to them
-      solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
-      solver_.settings().last_iterate_at_cap = bounded;
+      solver_.settings().max_iter = b.max_iter;
+      solver_.settings().last_iterate_at_cap = b.last_iterate_at_cap;
       return solver_.solve_from_initial_state(qp_.stage[0].lbx);
     }
     const qp::QpStatus st = vectors ? solver_.update_vectors() : update_qp();
     if (st != qp::QpStatus::accepted)
       return st;
-    solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
-    solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
+    solver_.settings().max_iter = b.max_iter;
+    solver_.settings().last_iterate_at_cap = b.last_iterate_at_cap;
     if (cold_start_due()) {
       // a cold start: the interior point, then the active set from its crossover point
       if (cold_start_(*this))
@@ -672,8 +694,9 @@ class Nmpc {
     return true;
   }
 
-  /// Records a QP solve; step_taken when it gave a finite solution, else qp_failed.
-  NmpcStatus finish_qp(qp::QpStatus st) {
+  /// Records a QP solve within budget b; step_taken when it gave a finite solution (or a capped
+  /// iterate), else qp_failed.
+  QpStep finish_qp(qp::QpStatus st, QpBudget b) {
     info_.qp_status = st;
     info_.qp_presolved = solver_.info().presolved;
     info_.qp_iterations += solver_.info().iterations;
@@ -681,9 +704,9 @@ class Nmpc {
     // a stall (or the cap) at the scalar's round-off floor, near the tolerances: the step is
     // usable (settings.hpp, accept_stalled_qp)
     info_.qp_merit = solver_.info().merit;
-    // stopped by the feedback's bound (feedback_qp_iterations), not by the settings' cap
-    limited_ = st == qp::QpStatus::iteration_limit && solver_.settings().last_iterate_at_cap;
-    const bool usable = st == qp::QpStatus::solved || limited_ ||
+    // stopped by the caller's bound (feedback_qp_iterations), not by the settings' cap
+    const bool capped = st == qp::QpStatus::iteration_limit && b.last_iterate_at_cap;
+    const bool usable = st == qp::QpStatus::solved || capped ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
                          solver_.info().merit <= settings_.accept_stalled_qp);
     // (qp::detail::all_finite: one multiply-add per entry where Eigen's allFinite() takes several)
@@ -696,10 +719,10 @@ class Nmpc {
         lam_bounds().setZero();
         lam_rows().setZero();
       }
-      return NmpcStatus::qp_failed;
+      return {NmpcStatus::qp_failed, false};
     }
     info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
-    return NmpcStatus::step_taken;
+    return {NmpcStatus::step_taken, capped};
   }
 
   bool parameters_finite() const {
@@ -794,11 +817,9 @@ class Nmpc {
   std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
   int merit_count_ = 0;                   ///< accepted points in the merit history
   Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
-  StopLaw stop_law_ = nullptr;  ///< the fallback's stop law (set_stop_law)
-  void* stop_user_ = nullptr;   ///< its user pointer
-  int failed_samples_ = 0;      ///< consecutive calls whose QP failed
-  int qp_cap_ = 0;              ///< feedback(): the bound on the QP's iterations (0: none)
-  bool limited_ = false;        ///< the last QP stopped at that bound
+  StopLaw stop_law_ = nullptr;                 ///< the fallback's stop law (set_stop_law)
+  void* stop_user_ = nullptr;                  ///< its user pointer
+  int failed_samples_ = 0;                     ///< consecutive calls whose QP failed
   PreparedQp prepared_qp_ = PreparedQp::none;  ///< what prepare() left in the solver
   bool matrices_checked_ = false;              ///< linearize_as() found every QP matrix finite
   ColdStart* ipm_ = nullptr;  ///< the QP's interior-point cold start (caller's; nullptr: off)
