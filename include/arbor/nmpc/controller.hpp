@@ -110,7 +110,8 @@ class Nmpc {
   Nmpc& operator=(const Nmpc&) = delete;
 
   // ---- data -----------------------------------------------------------------------------------
-  /// The same guess on every stage (slacks zero, multipliers reset).
+  /// The same guess on every stage (slacks zero, multipliers reset). Returns accepted or
+  /// non_finite_input (nothing stored); the setters below too.
   [[nodiscard]] NmpcStatus set_initial_guess(const Vx& x, const Vu& u) {
     if (!x.allFinite() || !u.allFinite())
       return NmpcStatus::non_finite_input;
@@ -123,7 +124,7 @@ class Nmpc {
     lam_bounds().setZero();
     lam_rows().setZero();
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Guess of x_k, k = 0..N.
   [[nodiscard]] NmpcStatus set_state_guess(int k, const Vx& x) {
@@ -132,7 +133,7 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     x_[std::size_t(k)] = x;
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Guess of u_k, k = 0..N-1.
   [[nodiscard]] NmpcStatus set_input_guess(int k, const Vu& u) {
@@ -141,7 +142,7 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     w_[std::size_t(k)].template head<nu>() = u;
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Parameters of stage k = 0..N (checked for finiteness by solve()/prepare()).
   void set_parameter(int k, const Vp& p) {
