@@ -62,8 +62,8 @@ TEST(NmpcSoft, ZeroSlackWhenTheHardProblemIsFeasible) {
   static arbor::nmpc::Nmpc<decltype(hard_p)> hard(hard_p);
   static arbor::nmpc::Nmpc<decltype(soft_p)> soft(soft_p);
   const Eigen::Vector2d x0(0, 0);
-  ASSERT_EQ(hard.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
-  ASSERT_EQ(soft.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(hard.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
+  ASSERT_EQ(soft.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   NmpcStatus sh, ss;
   {
     arbor::test::NoAllocScope guard;
@@ -90,8 +90,8 @@ TEST(NmpcSoft, PositiveSlackWhenTheHardProblemIsInfeasible) {
   static arbor::nmpc::Nmpc<decltype(hard_p)> hard(hard_p);
   static arbor::nmpc::Nmpc<decltype(soft_p)> soft(soft_p);
   const Eigen::Vector2d x0(0.5, 0);  // violates |theta| <= 0.1 at stage 0: no control helps
-  ASSERT_EQ(hard.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
-  ASSERT_EQ(soft.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(hard.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
+  ASSERT_EQ(soft.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   NmpcStatus sh, ss;
   {
     arbor::test::NoAllocScope guard;
@@ -119,7 +119,7 @@ TEST(NmpcBadInput, EveryFailureHasItsStatusAFiniteControlAndNoAllocation) {
   static auto p = nmpc_test::pendulum_problem<N>();
   static arbor::nmpc::Nmpc<decltype(p)> ctrl(p);
   const Eigen::Vector2d x0(0.2, 0);
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::accepted);
   arbor::test::NoAllocScope guard;
   EXPECT_EQ(ctrl.solve(Eigen::Vector2d(kNaN, 0)), NmpcStatus::non_finite_input);
   EXPECT_EQ(ctrl.solve(Eigen::Vector2d(0, std::numeric_limits<double>::infinity())),
@@ -143,6 +143,11 @@ TEST(NmpcBadInput, EveryFailureHasItsStatusAFiniteControlAndNoAllocation) {
   ctrl.settings().max_iter = 1;  // an SQP iteration cap
   EXPECT_EQ(ctrl.solve(x0), NmpcStatus::iteration_limit);
   EXPECT_TRUE(ctrl.control().allFinite());
+  // a setter's status says the value was stored, not that the controller is prepared
+  ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
+  EXPECT_EQ(ctrl.set_input_guess(2, U1(0.5)), NmpcStatus::accepted);
+  EXPECT_TRUE(arbor::nmpc::succeeded(NmpcStatus::accepted));
+  EXPECT_EQ(ctrl.feedback(x0), NmpcStatus::not_prepared);
 }
 
 TEST(NmpcBadInput, NonFiniteEvaluation) {
@@ -152,7 +157,7 @@ TEST(NmpcBadInput, NonFiniteEvaluation) {
                                        ocp::path_costs(cost), ocp::terminal_costs(cost));
   static arbor::nmpc::Nmpc<decltype(p)> ctrl(p);
   const Eigen::Vector2d x0(-2, 0);
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.25)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.25)), NmpcStatus::accepted);
   arbor::test::NoAllocScope guard;
   EXPECT_EQ(ctrl.solve(x0), NmpcStatus::non_finite_evaluation);
   EXPECT_EQ(ctrl.prepare(), NmpcStatus::non_finite_evaluation);
@@ -161,9 +166,9 @@ TEST(NmpcBadInput, NonFiniteEvaluation) {
   // preparation: the QP reports the NaN (the controller lets its update skip the matrices'
   // check only after a linearisation that checked them; its factorization would find it too)
   ASSERT_EQ(ctrl.set_initial_guess(Eigen::Vector2d(0, 0), U1::Constant(0.25)),
-            NmpcStatus::prepared);
+            NmpcStatus::accepted);
   ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.25)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.25)), NmpcStatus::accepted);
   EXPECT_EQ(ctrl.linearize(), NmpcStatus::non_finite_evaluation);
   ctrl.embed(x0);
   EXPECT_EQ(ctrl.solve_qp(), NmpcStatus::qp_failed);
@@ -178,7 +183,7 @@ std::vector<double> step_norms(bool* converged) {
   static auto p = nmpc_test::pendulum_problem<N>();
   static arbor::nmpc::Nmpc<decltype(p), double, H> ctrl(p);
   const Eigen::Vector2d x0(0, 0);
-  EXPECT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  EXPECT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   ctrl.settings().max_iter = 1;
   std::vector<double> d;
   *converged = false;
@@ -241,7 +246,7 @@ TEST(NmpcRealTime, ShiftMovesThePlanAndKeepsOrMovesTheMultipliers) {
   static Ctrl ctrl(p);
   const Eigen::Vector2d x0(0, 0);
   for (const bool move : {false, true}) {
-    ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+    ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
     ctrl.settings().shift_multipliers = move;
     NmpcStatus st;
     {
@@ -305,9 +310,9 @@ void closed_loop() {
   using Vu = typename Ctrl::Vu;
   Eigen::Vector2d x(M_PI - 0.3, 0.2);  // the plant's state
   ASSERT_EQ(ctrl.set_initial_guess(Eigen::Vector2d(M_PI, 0).cast<Scalar>(), Vu::Zero()),
-            NmpcStatus::prepared);
+            NmpcStatus::accepted);
   ASSERT_EQ(twin.set_initial_guess(Eigen::Vector2d(M_PI, 0).cast<Scalar>(), Vu::Zero()),
-            NmpcStatus::prepared);
+            NmpcStatus::accepted);
   NmpcStatus st;
   {
     arbor::test::NoAllocScope guard;

@@ -89,7 +89,7 @@ void check_against_lqr() {
   s.tol_stationarity = s.tol_primal = s.tol_complementarity = 1e-10;
   s.qp.tol_primal = s.qp.tol_dual = s.qp.tol_comp = 1e-10;
   ASSERT_EQ(ctrl.set_initial_guess(Eigen::Vector4d::Zero(), Eigen::Vector2d::Zero()),
-            NmpcStatus::prepared);
+            NmpcStatus::accepted);
   NmpcStatus st;
   {
     arbor::test::NoAllocScope guard;

@@ -454,11 +454,11 @@ NmpcRun<Ctrl> solve_nmpc(Ctrl& ctrl, const PlainOcp& ocp, const VecX& w0, int ma
     ctrl.settings().qp.tol_primal = tol_qp;
     ctrl.settings().qp.tol_dual = tol_qp;
     ctrl.settings().qp.tol_comp = tol_qp;
-    guess_ok &= ctrl.set_initial_guess(xs[0], us[0]) == arbor::nmpc::NmpcStatus::prepared;
+    guess_ok &= ctrl.set_initial_guess(xs[0], us[0]) == arbor::nmpc::NmpcStatus::accepted;
     for (int k = 0; k <= ocp.N; ++k)
-      guess_ok &= ctrl.set_state_guess(k, xs[std::size_t(k)]) == arbor::nmpc::NmpcStatus::prepared;
+      guess_ok &= ctrl.set_state_guess(k, xs[std::size_t(k)]) == arbor::nmpc::NmpcStatus::accepted;
     for (int k = 0; k < ocp.N; ++k)
-      guess_ok &= ctrl.set_input_guess(k, us[std::size_t(k)]) == arbor::nmpc::NmpcStatus::prepared;
+      guess_ok &= ctrl.set_input_guess(k, us[std::size_t(k)]) == arbor::nmpc::NmpcStatus::accepted;
     const auto t0 = std::chrono::steady_clock::now();
     run.status = ctrl.solve(x0);
     run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

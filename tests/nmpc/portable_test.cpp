@@ -70,7 +70,7 @@ void rti_closed_loop(int bound = 0) {
   Eigen::Vector2d x(pi - offset, 0.0);  // the plant's state
   ctrl.settings().feedback_qp_iterations = bound;
   arbor::test::NoAllocScope guard;
-  ASSERT_EQ(ctrl.set_initial_guess(x.cast<S>(), Vu::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x.cast<S>(), Vu::Zero()), NmpcStatus::accepted);
   ASSERT_EQ(ctrl.feedback(x.cast<S>()), NmpcStatus::not_prepared);  // no preparation yet
   ASSERT_EQ(ctrl.prepare(), NmpcStatus::prepared);
   int at_bound = 0;

@@ -63,8 +63,8 @@ template <class R, int N, class T>
   using Vu = Eigen::Matrix<T, nu, 1>;
   Vx x0 = Vx::Zero();
   x0.template head<R::nv>() = Task::q_start().template cast<T>();
-  ASSERT_EQ(gn.set_initial_guess(x0, Vu::Zero()), NmpcStatus::prepared);
-  ASSERT_EQ(ex.set_initial_guess(x0, Vu::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(gn.set_initial_guess(x0, Vu::Zero()), NmpcStatus::accepted);
+  ASSERT_EQ(ex.set_initial_guess(x0, Vu::Zero()), NmpcStatus::accepted);
   gn.settings().max_iter = 100;
   ex.settings().max_iter = 100;
   NmpcStatus sg, se;
@@ -151,7 +151,7 @@ template <class R, int N, class T, bool Soft = true,
   using Vu = Eigen::Matrix<T, nu, 1>;
   Eigen::Matrix<double, nx, 1> x = Eigen::Matrix<double, nx, 1>::Zero();
   x.template head<n>() = Task::q_start();
-  ASSERT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::accepted);
   c.settings().max_iter = 100;
   c.settings().feedback_qp_iterations = bound;
   c.settings().input_regularization = T(input_regularization);
@@ -218,7 +218,7 @@ template <class R, int N, class T>
   using Vu = Eigen::Matrix<T, nu, 1>;
   Eigen::Matrix<double, nx, 1> x = Eigen::Matrix<double, nx, 1>::Zero();
   x.template head<n>() = Task::q_start();
-  EXPECT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::prepared);
+  EXPECT_EQ(c.set_initial_guess(x.template cast<T>(), Vu::Zero()), NmpcStatus::accepted);
   c.settings().max_iter = 100;
   NmpcStatus sp[6], sf[6];
   {

@@ -71,13 +71,13 @@ TEST(NmpcRecovery, StateOutsideItsBoundIsBroughtBack) {
   ASSERT_GT(0.6, PendulumData::h * (PendulumData::u_max + 9.81 * std::sin(0.4) + 0.2));
   ctrl.settings().recovery_stages = 0;
   ctrl.settings().fallback = FallbackPolicy::stale_plan;
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   EXPECT_EQ(ctrl.solve(x0), NmpcStatus::qp_failed);
   EXPECT_EQ(ctrl.info().qp_status, QpStatus::infeasible);
 
   const int K = 3;
   ctrl.settings().recovery_stages = K;
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   NmpcStatus st;
   {
     arbor::test::NoAllocScope guard;
@@ -100,7 +100,7 @@ TEST(NmpcRecovery, StateOutsideItsBoundIsBroughtBack) {
   twin.settings() = ctrl.settings();
   twin.settings().presolve_feedback = false;
   ASSERT_TRUE(ctrl.settings().presolve_feedback);
-  ASSERT_EQ(twin.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(twin.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   ASSERT_EQ(twin.solve(x0), NmpcStatus::recovering);
   ASSERT_LE((twin.control() - ctrl.control()).cwiseAbs().maxCoeff(), 1e-12);
   Eigen::Vector2d x = x0;
@@ -179,7 +179,7 @@ TEST(NmpcFallback, InfeasibleQpSwitchesToTheFallbackAfterTheSetCount) {
 
   // stale plan: fails every sample
   ctrl.settings().fallback = FallbackPolicy::stale_plan;
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::accepted);
   run_failures(ctrl, x0, 4, sts);
   for (auto s : sts)
     EXPECT_EQ(s, NmpcStatus::qp_failed);
@@ -188,7 +188,7 @@ TEST(NmpcFallback, InfeasibleQpSwitchesToTheFallbackAfterTheSetCount) {
   // relax (the default), after 3 failures: the relaxed QP's control
   ctrl.settings().fallback = FallbackPolicy::relax;
   ctrl.settings().max_failed_samples = 3;
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::accepted);
   run_failures(ctrl, x0, 1, sts);  // (the count goes on from the stale-plan run: 5 failures)
   EXPECT_EQ(sts[0], NmpcStatus::fallback_relaxed);
   EXPECT_EQ(ctrl.info().qp_status, QpStatus::solved);
@@ -209,7 +209,7 @@ TEST(NmpcFallback, QpIterationCapEscalatesFromRelaxToStop) {
   static const auto p = nmpc_test::pendulum_problem<N>();
   static arbor::nmpc::Nmpc<std::remove_const_t<decltype(p)>> ctrl(p);
   const Eigen::Vector2d x0(0.2, 0.0);  // hanging: the swing-up saturates the torque
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   ctrl.settings().qp.max_iter = 1;  // no QP from this guess ends within one iteration
   std::vector<NmpcStatus> sts;
   sts.reserve(8);
@@ -250,7 +250,7 @@ TEST(NmpcBoundedFeedback, CutShortQpsStillBalanceAfterPushes) {
   for (const int k_max : {0, 2, 3}) {  // 0: no bound (the reference run)
     SCOPED_TRACE("feedback_qp_iterations " + std::to_string(k_max));
     Eigen::Vector2d x(pi - 0.2, 0.0);  // 0.2 rad from upright: the torque saturates at first
-    ASSERT_EQ(ctrl.set_initial_guess(x, U1::Zero()), NmpcStatus::prepared);
+    ASSERT_EQ(ctrl.set_initial_guess(x, U1::Zero()), NmpcStatus::accepted);
     ASSERT_EQ(ctrl.solve(x), NmpcStatus::converged);  // the plan of the first sample
     ctrl.settings().feedback_qp_iterations = k_max;
     int limited = 0, most = 0;
@@ -318,8 +318,8 @@ TEST(NmpcColdStart, InteriorPointCrossoverGivesTheSamePlanWithFewerQpIterations)
   auto& plain = cold_start_pair().plain;
   auto& crossed = cold_start_pair().crossed;
   const Eigen::Vector2d x0(0.0, 0.0);  // hanging: the swing-up saturates torque and velocity
-  ASSERT_EQ(plain.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
-  ASSERT_EQ(crossed.set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+  ASSERT_EQ(plain.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
+  ASSERT_EQ(crossed.set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
   NmpcStatus s1, s2;
   s1 = plain.solve(x0);
   {
@@ -353,7 +353,7 @@ TEST(NmpcColdStart, RealTimeIterationAfterAResetTakesTheSameStep) {
   auto& crossed = cold_start_pair().crossed;
   const Eigen::Vector2d x0(0.3, -0.2);
   for (ColdStartPair::Ctrl* c : {&plain, &crossed}) {
-    ASSERT_EQ(c->set_initial_guess(x0, U1::Zero()), NmpcStatus::prepared);
+    ASSERT_EQ(c->set_initial_guess(x0, U1::Zero()), NmpcStatus::accepted);
     ASSERT_EQ(c->prepare(), NmpcStatus::prepared);
     NmpcStatus st;
     {
@@ -384,7 +384,7 @@ TEST(NmpcColdStart, InfeasibleQpsFailAsWithoutTheInteriorPoint) {
   const Eigen::Vector2d x0(0.5, 0.0);
   std::vector<NmpcStatus> sts;
   sts.reserve(4);
-  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::prepared);
+  ASSERT_EQ(ctrl.set_initial_guess(x0, U1::Constant(0.5)), NmpcStatus::accepted);
   run_failures(ctrl, x0, 3, sts);
   for (auto s : sts)
     EXPECT_EQ(s, NmpcStatus::qp_failed);

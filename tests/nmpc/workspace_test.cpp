@@ -95,7 +95,7 @@ std::pair<arbor::nmpc::NmpcStatus, Eigen::VectorXd> plan_after(int iters) {
   ctrl->settings().max_iter = iters;
   const Eigen::Vector4d x0(M_PI, 0, 0, 0);
   EXPECT_EQ(ctrl->set_initial_guess(x0, Eigen::Vector2d::Zero()),
-            arbor::nmpc::NmpcStatus::prepared);
+            arbor::nmpc::NmpcStatus::accepted);
   const auto st = ctrl->solve(x0);
   Eigen::VectorXd w((N + 1) * 4 + N * 2);
   for (int k = 0; k <= N; ++k)

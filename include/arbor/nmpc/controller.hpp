@@ -9,14 +9,14 @@
 //   - globalisation of full solves by backtracking on the L1 merit function
 //       M(w) = f(w) + nu (|defects|_1 + constraint and bound violations),
 //     Armijo on the directional derivative g'd - nu viol(w) (exact for the L1 merit when d solves
-//     the QP), nu >= 1.5 |lambda_QP|_inf, never decreased; non-monotone: the decrease is measured
-//     from the largest merit of the last 4 accepted points (Grippo-Lampariello-Lucidi), so full
-//     steps near a solution survive the Maratos effect; full steps in real-time iteration;
-//   - real-time iteration: prepare() linearises around the current (shifted) plan before the
-//     state is measured; feedback(x0) embeds x0 (dx_0 = x0 - x_0), solves one QP, takes the full
-//     step and returns; control() is then u_0. shift() moves the plan one stage (and the
-//     multipliers too when settings().shift_multipliers is set; by default they stay in place,
-//     the previous solution's working set stage by stage: see settings.hpp).
+//     the QP), nu >= settings().penalty_margin |lambda_QP|_inf, never decreased; non-monotone:
+//     the decrease is measured from the largest merit of the last accepted points
+//     (Grippo-Lampariello-Lucidi), so full steps near a solution survive the Maratos effect;
+//   - real-time iteration: prepare() linearises around the current (shifted) plan and prepares
+//     the QP (nmpc/qp_session.hpp) before the state is measured; feedback(x0) embeds x0
+//     (dx_0 = x0 - x_0), solves that QP, takes the full step and returns; control() is then u_0.
+//     shift() moves the plan one stage (the multipliers too when settings().shift_multipliers
+//     is set: see settings.hpp).
 //
 //   using Ctrl = nmpc::Nmpc<decltype(problem), double>;
 //   static Ctrl ctrl(problem);              // big: static storage (sizeof in bench/nmpc)
@@ -26,29 +26,20 @@
 //         ctrl.feedback(x0);                               // RTI: latency = feedback only
 //
 // A failed call (see NmpcStatus) leaves the plan unchanged: control() is always finite, the
-// current plan's u_0 (after shift(), the previous plan's u_1).
-// A measured state outside its bounds: the violated bounds of the first stages are relaxed to a
-// straight line back to the bound (settings().recovery_stages; status recovering). A QP that
-// keeps failing: from the settings().max_failed_samples-th consecutive failure, the fallback
-// (settings().fallback): the relaxed QP (state bounds and constraint rows dropped for that call;
-// fallback_relaxed) or the user's stop law clipped to the input bounds (set_stop_law;
-// fallback_stop). The multipliers are stored once,
-// in the QP solver (its warm start and its result): after qp_failed they are the solver's best
-// iterate (iteration limit, stall) or zero (infeasible, unbounded, non-finite); after
-// line_search_failed, the rejected QP's. Everything is sized at compile
-// time, nothing allocates, the object is reentrant (its state is its members; RBD calls use the
-// workspaces their handles point to, one controller per workspace set).
+// current plan's u_0 (after shift(), the previous plan's u_1). A measured state outside its
+// bounds (recovering) and a QP that keeps failing (fallback_relaxed, fallback_stop): the safety
+// policy, nmpc/safety.hpp. The multipliers are stored once, in the QP solver (its warm start and
+// its result): after qp_failed they are the solver's best iterate (iteration limit, stall) or
+// zero (infeasible, unbounded, non-finite); after line_search_failed, the rejected QP's.
+// Everything is sized at compile time, nothing allocates, the object is reentrant (its state is
+// its members; RBD calls use the workspaces their handles point to, one controller per
+// workspace set).
 // Cost per SQP iteration: N path linearisations + the terminal one (ocp/linearize.hpp), one QP
 // update (vector copies and finiteness checks), one QP solve, and per line-search step N + 1
 // stage evaluations without derivatives. In real-time iteration the QP's first factorization
-// belongs to the preparation (prepare() factorizes for the working set the feedback starts
-// from; feedback() re-reads the vectors and solves): the feedback is the QP's iterations only,
-// at most settings().feedback_qp_iterations of them (step_limited when that bound stops it).
-// With settings().presolve_feedback (on by default) prepare() also computes the QP's first step
-// for the predicted x_0 (qp::OcpQpSolver::presolve) and feedback() moves it to the measured one
-// (solve_from_initial_state: one forward Riccati sweep), re-reading nothing; a recovery moves
-// the relaxed state bounds into the QP's copy (qp::OcpQpSolver::set_state_bounds: then a pass
-// over every constraint and, when a working bound's target moved, a full solve instead).
+// (and with settings().presolve_feedback its first step) belongs to the preparation: the
+// feedback is the QP's iterations only, at most settings().feedback_qp_iterations of them
+// (step_limited when that bound stops it).
 #pragma once
 
 #include <Eigen/Core>
@@ -59,12 +50,13 @@
 
 #include "arbor/core/config.hpp"
 #include "arbor/nmpc/kkt.hpp"
+#include "arbor/nmpc/merit.hpp"
+#include "arbor/nmpc/qp_session.hpp"
+#include "arbor/nmpc/safety.hpp"
 #include "arbor/nmpc/settings.hpp"
 #include "arbor/nmpc/status.hpp"
 #include "arbor/ocp/generated_stage.hpp"
 #include "arbor/ocp/linearize.hpp"
-#include "arbor/qp/ocp_interior_point.hpp"
-#include "arbor/qp/ocp_qp_solver.hpp"
 
 namespace arbor::nmpc {
 
@@ -72,27 +64,29 @@ namespace arbor::nmpc {
 template <class P, class Scalar = double, ocp::HessianKind H = ocp::HessianKind::gauss_newton>
 class Nmpc {
  public:
-  static constexpr int nx = P::nx;        ///< states
-  static constexpr int nu = P::nu;        ///< inputs
-  static constexpr int np = P::np;        ///< parameters per stage
-  static constexpr int ns = P::ns;        ///< slacks per path stage
-  static constexpr int nw = nu + ns;      ///< QP inputs per path stage ([u; s])
-  static constexpr int N = P::horizon;    ///< shooting intervals
-  using Qp = ocp::QpOf<P, Scalar>;        ///< the QP of one SQP iteration
-  static constexpr int ng = Qp::ng;       ///< QP rows per path stage (>= 1, see ocp::qp_rows)
-  static constexpr int ngn = Qp::ngn;     ///< QP rows of the terminal stage (>= 1)
-  using QpSolver = qp::OcpQpSolver<Qp>;   ///< its solver
-  using Vx = VecN<Scalar, nx>;            ///< a state
-  using Vu = VecN<Scalar, nu>;            ///< an input
-  using Vw = VecN<Scalar, nw>;            ///< an input with its slacks
-  using Vp = VecN<Scalar, np>;            ///< stage parameters
-  using Settings = NmpcSettings<Scalar>;  ///< settings
-  using Info = NmpcInfo<Scalar>;          ///< figures of the last call
+  static constexpr int nx = P::nx;       ///< states
+  static constexpr int nu = P::nu;       ///< inputs
+  static constexpr int np = P::np;       ///< parameters per stage
+  static constexpr int ns = P::ns;       ///< slacks per path stage
+  static constexpr int nw = nu + ns;     ///< QP inputs per path stage ([u; s])
+  static constexpr int N = P::horizon;   ///< shooting intervals
+  using Qp = ocp::QpOf<P, Scalar>;       ///< the QP of one SQP iteration
+  static constexpr int ng = Qp::ng;      ///< QP rows per path stage (>= 1, see ocp::qp_rows)
+  static constexpr int ngn = Qp::ngn;    ///< QP rows of the terminal stage (>= 1)
+  using QpSolver = qp::OcpQpSolver<Qp>;  ///< its solver
+  using Session = detail::QpSession<Qp, Scalar>;        ///< the solver with its preparation
+  using Safety = detail::SafetyPolicy<Scalar, nx, nu>;  ///< recovery and fallback
+  using Vx = VecN<Scalar, nx>;                          ///< a state
+  using Vu = VecN<Scalar, nu>;                          ///< an input
+  using Vw = VecN<Scalar, nw>;                          ///< an input with its slacks
+  using Vp = VecN<Scalar, np>;                          ///< stage parameters
+  using Settings = NmpcSettings<Scalar>;                ///< settings
+  using Info = NmpcInfo<Scalar>;                        ///< figures of the last call
   /// Workspace of the QP's interior-point cold start (set_cold_start_workspace)
-  using ColdStart = qp::OcpInteriorPoint<Qp>;
+  using ColdStart = typename Session::ColdStart;
   /// A control law that stops the system (FallbackPolicy::stop): u = law(x, user), e.g. for a
   /// robot gravity compensation plus joint damping; the controller clips it to the input bounds.
-  using StopLaw = Vu (*)(const Vx& x, void* user);
+  using StopLaw = typename Safety::StopLaw;
 
   /// Copies the problem (its expressions and default bounds); plan, parameters and multipliers
   /// start at zero (set a guess with set_initial_guess).
@@ -116,7 +110,8 @@ class Nmpc {
   Nmpc& operator=(const Nmpc&) = delete;
 
   // ---- data -----------------------------------------------------------------------------------
-  /// The same guess on every stage (slacks zero, multipliers reset).
+  /// The same guess on every stage (slacks zero, multipliers reset). Returns accepted or
+  /// non_finite_input (nothing stored); the setters below too.
   [[nodiscard]] NmpcStatus set_initial_guess(const Vx& x, const Vu& u) {
     if (!x.allFinite() || !u.allFinite())
       return NmpcStatus::non_finite_input;
@@ -129,7 +124,7 @@ class Nmpc {
     lam_bounds().setZero();
     lam_rows().setZero();
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Guess of x_k, k = 0..N.
   [[nodiscard]] NmpcStatus set_state_guess(int k, const Vx& x) {
@@ -138,7 +133,7 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     x_[std::size_t(k)] = x;
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Guess of u_k, k = 0..N-1.
   [[nodiscard]] NmpcStatus set_input_guess(int k, const Vu& u) {
@@ -147,7 +142,7 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     w_[std::size_t(k)].template head<nu>() = u;
     prepared_ = false;
-    return NmpcStatus::prepared;
+    return NmpcStatus::accepted;
   }
   /// Parameters of stage k = 0..N (checked for finiteness by solve()/prepare()).
   void set_parameter(int k, const Vp& p) {
@@ -176,19 +171,12 @@ class Nmpc {
   /// active set (qp/ocp_interior_point.hpp; info().qp_ipm_iterations); when the interior point
   /// does not converge (an equality other than x_0, an infeasible QP: its iteration cap) the
   /// active set starts cold, as without it. nullptr (the default): the active set starts cold
-  /// alone. ws is the caller's (~142 KB at the Kinova size in double); settings().cold_start
-  /// holds its settings.
-  /// (The interior point's code is instantiated here, through cold_start_: a program that never
-  /// calls this compiles and links none of it: ~6 s of compiler time per controller type at -O1.)
-  void set_cold_start_workspace(ColdStart* ws) {
-    ipm_ = ws;
-    cold_start_ = ws != nullptr ? &Nmpc::run_cold_start : nullptr;
-  }
+  /// alone. ws is the caller's (its size: docs/api.md section 2); settings().cold_start holds
+  /// its settings. A program that never calls this compiles and links none of the interior
+  /// point's code (QpSession::set_cold_start_workspace).
+  void set_cold_start_workspace(ColdStart* ws) { session_.set_cold_start_workspace(ws); }
   /// The stop law of the fallback (nullptr: none) and its user pointer.
-  void set_stop_law(StopLaw law, void* user = nullptr) {
-    stop_law_ = law;
-    stop_user_ = user;
-  }
+  void set_stop_law(StopLaw law, void* user = nullptr) { safety_.set_stop_law(law, user); }
 
   // ---- results --------------------------------------------------------------------------------
   /// The control to apply: u_0 of the current plan (always finite).
@@ -236,7 +224,7 @@ class Nmpc {
   /// The QP of the last linearisation (delta form) and its solver, for inspection.
   const Qp& qp() const { return qp_; }
   /// The QP solver (its info() holds the last QP's figures).
-  const QpSolver& qp_solver() const { return solver_; }
+  const QpSolver& qp_solver() const { return session_.solver(); }
 
   // ---- solving --------------------------------------------------------------------------------
   /// Full SQP from the current plan with x_0 = x0: iterates until the KKT residuals are below
@@ -247,18 +235,16 @@ class Nmpc {
     if (!x0.allFinite() || !parameters_finite())
       return NmpcStatus::non_finite_input;
     x_[0] = x0;
-    if (x0 != last_x0_)
-      merit_count_ = 0;  // another problem: restart the merit history
-    last_x0_ = x0;
+    merit_.start(x0);
     for (int it = 0;; ++it) {
       const NmpcStatus lin = linearize();
       if (lin != NmpcStatus::prepared)
         return lin;
       embed(x0);
-      const bool recovering = relax_violated_bounds(x0);
+      const bool recovering = recover(x0);
       record_kkt();
       if (converged() || it == settings_.max_iter) {
-        failed_samples_ = 0;
+        safety_.qp_succeeded();
         info_.failed_samples = 0;
         if (recovering)
           return NmpcStatus::recovering;
@@ -269,7 +255,11 @@ class Nmpc {
         return after_qp_failure(x0);
       if (qs != NmpcStatus::step_taken)
         return qs;
-      NmpcStatus ls = settings_.line_search ? line_search(x0) : take_step(Scalar(1));
+      NmpcStatus ls = NmpcStatus::step_taken;
+      if (settings_.line_search)
+        ls = line_search(x0);
+      else
+        take_step(Scalar(1));
       if constexpr (H == ocp::HessianKind::exact) {
         if (ls == NmpcStatus::line_search_failed) {  // not a descent step: Gauss-Newton's
           const NmpcStatus gs = gauss_newton_step();
@@ -285,7 +275,8 @@ class Nmpc {
   }
 
   /// Real-time iteration, preparation phase: linearises around the current plan (call after
-  /// shift()). Returns prepared, non_finite_input or non_finite_evaluation.
+  /// shift()) and prepares its QP. Returns prepared, non_finite_input or non_finite_evaluation
+  /// (a QP the solver rejects is left to the feedback, which reports it as qp_failed).
   [[nodiscard]] NmpcStatus prepare() {
     prepared_ = false;
     if (!parameters_finite())
@@ -300,19 +291,17 @@ class Nmpc {
     // re-reads only the vectors (qp::OcpQpSolver::update_vectors, prefactorize)
     // (and, unless the feedback runs the interior-point cold start, the QP's first step for
     // this x_0: the feedback moves it to the measured one, qp::OcpQpSolver::presolve)
-    if (update_qp() == qp::QpStatus::accepted) {
-      if (settings_.presolve_feedback && !cold_start_due())
-        presolved_ = vectors_only_ = solver_.presolve() >= 0;  // (x_0 moved by solve_from)
-      else
-        vectors_only_ = solver_.prefactorize() >= 0;
-    }
+    if (session_.update(qp_, settings_.qp, matrices_checked_) == qp::QpStatus::accepted)
+      session_.prepare(settings_.presolve_feedback && !session_.cold_start_due());
     prepared_ = true;
     return NmpcStatus::prepared;
   }
 
   /// Real-time iteration, feedback phase: embeds the measured x0, solves the prepared QP and
-  /// takes the full step. Returns step_taken (control() is the new u_0), not_prepared,
-  /// non_finite_input (the preparation is kept) or qp_failed (the plan is unchanged).
+  /// takes the full step. Returns step_taken (control() is the new u_0), recovering,
+  /// step_limited, not_prepared, non_finite_input (the preparation is kept), qp_failed (the plan
+  /// is unchanged), fallback_relaxed, fallback_stop, or non_finite_evaluation (the exact
+  /// Hessian's Gauss-Newton redo).
   [[nodiscard]] NmpcStatus feedback(const Vx& x0) {
     if (!prepared_)
       return NmpcStatus::not_prepared;
@@ -320,23 +309,21 @@ class Nmpc {
       return NmpcStatus::non_finite_input;
     prepared_ = false;
     embed(x0);
-    const bool recovering = relax_violated_bounds(x0);
+    const bool recovering = recover(x0);
     info_.iterations = 0;
     info_.qp_iterations = 0;
     info_.qp_presolved = false;  // (set by a solve that ran)
     // the user's bound on the QP's work (settings.hpp, feedback_qp_iterations): an iterate at
     // the bound is a step too
-    qp_cap_ = settings_.feedback_qp_iterations;
-    const NmpcStatus qs = solve_qp();
-    qp_cap_ = 0;
-    if (qs == NmpcStatus::qp_failed)
+    const QpStep qs = solve_qp(Session::budget(settings_.qp, settings_.feedback_qp_iterations));
+    if (qs.status == NmpcStatus::qp_failed)
       return after_qp_failure(x0);
-    if (qs != NmpcStatus::step_taken)
-      return qs;
-    failed_samples_ = 0;
+    if (qs.status != NmpcStatus::step_taken)
+      return qs.status;
+    safety_.qp_succeeded();
     info_.failed_samples = 0;
-    (void)take_step(Scalar(1));
-    if (limited_) {
+    take_step(Scalar(1));
+    if (qs.capped) {
       // the iterate of an unfinished QP: its dynamics hold (the Riccati solve meets them
       // exactly), the inputs outside the working set may lie beyond their bounds: clipped, and
       // x_0 is the measurement (the QP may have stopped short of it)
@@ -383,8 +370,7 @@ class Nmpc {
   template <ocp::HessianKind K>
   [[nodiscard]] NmpcStatus linearize_as() {
     constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
-    vectors_only_ = false;  // new matrices: the QP reads everything again
-    presolved_ = false;
+    session_.forget();  // new matrices: the QP reads everything again
     // (checked here, once: the QP's update then assumes them finite)
     matrices_checked_ = false;
     int batched = 0;  // path stages [0, batched) linearised several at a time (generated code)
@@ -430,66 +416,42 @@ class Nmpc {
 
   /// QP construction (update: the solver re-reads the vectors) and solve, warm-started at d = 0
   /// with the current multipliers. Returns step_taken (the step is in the solver) or qp_failed.
-  [[nodiscard]] NmpcStatus solve_qp() {
-    const qp::QpStatus st = solve_prepared_qp();
-    if constexpr (H == ocp::HessianKind::exact) {
-      if (st == qp::QpStatus::non_convex) {  // this iteration: the Gauss-Newton Hessian
-        info_.qp_iterations += solver_.info().iterations;
-        return gauss_newton_step();
-      }
-    }
-    return finish_qp(st);
-  }
+  [[nodiscard]] NmpcStatus solve_qp() { return solve_qp(unbounded()).status; }
 
   /// The exact-Hessian controller's fallback for one iteration: relinearises with the
   /// Gauss-Newton Hessian (convex by construction) and solves the QP again.
-  [[nodiscard]] NmpcStatus gauss_newton_step() {
-    ++info_.hessian_fallbacks;
-    const NmpcStatus lin = linearize_as<ocp::HessianKind::gauss_newton>();
-    if (lin != NmpcStatus::prepared)
-      return lin;
-    embed(embedded_);
-    const qp::QpStatus st = solve_prepared_qp();
-    return finish_qp(st);
-  }
+  [[nodiscard]] NmpcStatus gauss_newton_step() { return gauss_newton_step(unbounded()).status; }
 
   /// Backtracking on the L1 merit along the solver's step (see the top of this file); takes the
   /// accepted step. Returns step_taken or line_search_failed (plan unchanged).
   [[nodiscard]] NmpcStatus line_search(const Vx& x0) {
     const Scalar lam_max =
-        std::fmax(solver_.lam_x().cwiseAbs().maxCoeff(),
-                  solver_.lam_a().size() > 0 ? solver_.lam_a().cwiseAbs().maxCoeff() : Scalar(0));
-    if (settings_.penalty_margin * lam_max > penalty_) {
-      penalty_ = settings_.penalty_margin * lam_max;
-      merit_count_ = 0;  // merits of another penalty are not comparable
+        std::fmax(lam_bounds().cwiseAbs().maxCoeff(),
+                  lam_rows().size() > 0 ? lam_rows().cwiseAbs().maxCoeff() : Scalar(0));
+    const Scalar penalty = merit_.raise_penalty(lam_max, settings_.penalty_margin);
+    info_.penalty = penalty;
+    if (info_.step_norm == Scalar(0)) {
+      take_step(Scalar(1));  // only the multipliers change
+      return NmpcStatus::step_taken;
     }
-    info_.penalty = penalty_;
-    if (info_.step_norm == Scalar(0))
-      return take_step(Scalar(1));  // only the multipliers change
     const ocp::StageMerit<Scalar> m0 = merit_at(Scalar(0), x0);
-    const Scalar phi_now = m0.cost + penalty_ * m0.violation;
-    // non-monotone reference (Grippo, Lampariello, Lucidi 1986): the largest merit of the last
-    // few accepted points, so that full steps survive the Maratos effect near a solution
-    Scalar phi0 = phi_now;
-    const int recent =
-        merit_count_ < int(recent_merit_.size()) ? merit_count_ : int(recent_merit_.size());
-    for (int i = 0; i < recent; ++i)
-      phi0 = std::fmax(phi0, recent_merit_[std::size_t(i)]);
-    Scalar slope = directional_cost_derivative() - penalty_ * m0.violation;
+    const Scalar phi_now = m0.cost + penalty * m0.violation;
+    const Scalar phi0 = merit_.reference(phi_now);  // non-monotone (MeritHistory)
+    Scalar slope = directional_cost_derivative() - penalty * m0.violation;
     if (slope > Scalar(0))
       slope = Scalar(0);  // round-off: require plain decrease
     Scalar alpha = 1;
     for (int i = 0; i <= settings_.max_line_search; ++i) {
       const ocp::StageMerit<Scalar> m = merit_at(alpha, x0);
-      const Scalar phi = m.cost + penalty_ * m.violation;
+      const Scalar phi = m.cost + penalty * m.violation;
       // sufficient decrease, up to the rounding noise of evaluating the merit
       const Scalar noise = Scalar(16) * std::numeric_limits<Scalar>::epsilon() * std::fabs(phi_now);
       if (std::isfinite(phi) && phi <= phi0 + settings_.armijo * alpha * slope + noise) {
         info_.line_search_steps = i;
         info_.merit = phi;
-        recent_merit_[std::size_t(merit_count_ % int(recent_merit_.size()))] = phi;
-        ++merit_count_;
-        return take_step(alpha);
+        merit_.accept(phi);
+        take_step(alpha);
+        return NmpcStatus::step_taken;
       }
       alpha *= settings_.backtrack;
     }
@@ -498,33 +460,49 @@ class Nmpc {
   }
 
  private:
-  /// Relaxes, on stages 1..recovery_stages of the QP, the state bounds that the measured x0
-  /// violates (judged against the bounds of stage 0) to the straight line from x0's value back
-  /// to the bound at stage recovery_stages + 1. Records the violation; true when it relaxed.
-  bool relax_violated_bounds(const Vx& x0) {
-    const Vx over = (x0 - ubx_[0]).cwiseMax(Scalar(0));
-    const Vx under = (lbx_[0] - x0).cwiseMax(Scalar(0));
-    const Scalar viol = std::fmax(over.maxCoeff(), under.maxCoeff());
-    info_.state_violation = viol;
-    const int K = settings_.recovery_stages < N ? settings_.recovery_stages : N;
-    if (K <= 0 || !(viol > settings_.tol_primal))
-      return false;
-    for (int k = 1; k <= K; ++k) {
-      const std::size_t i = std::size_t(k);
-      const Scalar frac = Scalar(K + 1 - k) / Scalar(K + 1);
-      auto& lb = k < N ? qp_.stage[i].lbx : qp_.terminal.lbx;
-      auto& ub = k < N ? qp_.stage[i].ubx : qp_.terminal.ubx;
-      for (int j = 0; j < nx; ++j) {
-        if (over[j] > settings_.tol_primal)
-          ub[j] = std::fmax(ub[j], ubx_[i][j] + frac * over[j] - x_[i][j]);
-        if (under[j] > settings_.tol_primal)
-          lb[j] = std::fmin(lb[j], lbx_[i][j] - frac * under[j] - x_[i][j]);
+  using QpBudget = typename Session::Budget;
+  /// A QP solve's outcome: step_taken (the step is in the solver), qp_failed, or the exact
+  /// Hessian's Gauss-Newton redo's non_finite_evaluation; capped: the QP stopped at its
+  /// budget's bound before it was solved (its last iterate is the step).
+  struct QpStep {
+    NmpcStatus status;
+    bool capped;
+  };
+
+  /// The budget of a QP solve bounded by the settings' cap only.
+  QpBudget unbounded() const { return Session::budget(settings_.qp, 0); }
+
+  /// solve_qp() within budget b.
+  QpStep solve_qp(QpBudget b) {
+    const qp::QpStatus st = solve_prepared_qp(b);
+    if constexpr (H == ocp::HessianKind::exact) {
+      if (st == qp::QpStatus::non_convex) {  // this iteration: the Gauss-Newton Hessian
+        info_.qp_iterations += solver().info().iterations;
+        return gauss_newton_step(b);
       }
-      // a presolved QP takes them into its own copy (kept when its working set still holds)
-      if (presolved_ && solver_.set_state_bounds(k, lb, ub) != qp::QpStatus::accepted)
-        presolved_ = false;
     }
-    return true;
+    return finish_qp(st, b);
+  }
+
+  /// gauss_newton_step() within budget b.
+  QpStep gauss_newton_step(QpBudget b) {
+    ++info_.hessian_fallbacks;
+    const NmpcStatus lin = linearize_as<ocp::HessianKind::gauss_newton>();
+    if (lin != NmpcStatus::prepared)
+      return {lin, false};
+    embed(embedded_);
+    return finish_qp(solve_prepared_qp(b), b);
+  }
+
+  /// The recovery of a measured x0 outside the state bounds (Safety::relax_violated_bounds),
+  /// its relaxed bounds moved into a presolved QP; true when it relaxed.
+  bool recover(const Vx& x0) {
+    const int K =
+        Safety::relax_violated_bounds(settings_, x0, lbx_, ubx_, x_, qp_, info_.state_violation);
+    for (int k = 1; k <= K && session_.presolved(); ++k)
+      session_.move_state_bounds(k, k < N ? qp_.stage[std::size_t(k)].lbx : qp_.terminal.lbx,
+                                 k < N ? qp_.stage[std::size_t(k)].ubx : qp_.terminal.ubx);
+    return K > 0;
   }
 
   /// A call whose QP failed: counts it and, from the max_failed_samples-th consecutive one,
@@ -532,45 +510,30 @@ class Nmpc {
   /// fallback_relaxed (the relaxed QP's step taken) or fallback_stop (control() is the stop
   /// law's).
   NmpcStatus after_qp_failure(const Vx& x0) {
-    ++failed_samples_;
-    info_.failed_samples = failed_samples_;
-    const int after = settings_.max_failed_samples > 1 ? settings_.max_failed_samples : 1;
-    if (settings_.fallback == FallbackPolicy::stale_plan || failed_samples_ < after)
+    const detail::Fallback f = safety_.qp_failed(settings_);
+    info_.failed_samples = safety_.failed_samples();
+    if (f == detail::Fallback::none)
       return NmpcStatus::qp_failed;
-    if (settings_.fallback == FallbackPolicy::relax || stop_law_ == nullptr) {
-      constexpr Scalar inf = std::numeric_limits<Scalar>::infinity();
-      for (int k = 0; k < N; ++k) {
-        auto& st = qp_.stage[std::size_t(k)];
-        if (k > 0) {
-          st.lbx.setConstant(-inf);
-          st.ubx.setConstant(inf);
-        }
-        st.lg.setConstant(-inf);
-        st.ug.setConstant(inf);
-      }
-      qp_.terminal.lbx.setConstant(-inf);
-      qp_.terminal.ubx.setConstant(inf);
-      qp_.terminal.lg.setConstant(-inf);
-      qp_.terminal.ug.setConstant(inf);
-      if (finish_qp(solve_prepared_qp()) == NmpcStatus::step_taken) {
-        (void)take_step(Scalar(1));
+    if (f == detail::Fallback::relax) {
+      Safety::relax_qp(qp_);
+      const QpBudget b = unbounded();
+      if (finish_qp(solve_prepared_qp(b), b).status == NmpcStatus::step_taken) {
+        take_step(Scalar(1));
         return NmpcStatus::fallback_relaxed;
       }
     }
-    if (stop_law_ != nullptr) {
-      const Vu u = stop_law_(x0, stop_user_).cwiseMax(lbu_[0]).cwiseMin(ubu_[0]);
-      if (u.allFinite()) {
-        w_[0].template head<nu>() = u;
-        return NmpcStatus::fallback_stop;
-      }
+    Vu u;
+    if (safety_.stop_control(x0, lbu_[0], ubu_[0], u)) {
+      w_[0].template head<nu>() = u;
+      return NmpcStatus::fallback_stop;
     }
     return NmpcStatus::qp_failed;
   }
 
   /// The multiplier estimate: the QP solver's multipliers (flat; its warm start and its result,
   /// stored once).
-  auto& lam_bounds() { return solver_.lam_x(); }
-  const auto& lam_bounds() const { return solver_.lam_x(); }
+  auto& lam_bounds() { return session_.solver().lam_x(); }
+  const auto& lam_bounds() const { return session_.solver().lam_x(); }
   /// The Gauss-Newton path stages L = ocp::path_lanes at a time (ocp::linearize_paths: the
   /// generated stage code in SIMD lanes), as many whole groups of L as N holds (linearize_as
   /// does the rest one by one); returns the number of stages done (0 without a batched path:
@@ -601,87 +564,34 @@ class Nmpc {
     return k0;
   }
 
-  auto& lam_rows() { return solver_.lam_a(); }
-  const auto& lam_rows() const { return solver_.lam_a(); }
+  auto& lam_rows() { return session_.solver().lam_a(); }
+  const auto& lam_rows() const { return session_.solver().lam_a(); }
+  QpSolver& solver() { return session_.solver(); }
+  const QpSolver& solver() const { return session_.solver(); }
 
-  /// QP update (setup when the settings changed); the QP's status.
-  qp::QpStatus update_qp() {
-    qp::QpStatus st;
-    if (!qp_setup_ || applied_qp_ != settings_.qp) {
-      st = solver_.setup(qp_, settings_.qp);  // first call, or the QP settings changed
-      applied_qp_ = settings_.qp;
-      qp_setup_ = st == qp::QpStatus::accepted;
-    } else {
-      // (the matrices as linearize_as() checked them, unless it stopped at a non-finite one)
-      st = solver_.update(qp::Convexity::assumed,
-                          matrices_checked_ ? qp::Finiteness::assumed : qp::Finiteness::checked);
-    }
-    return st;
+  /// The QP's solve within budget b from what prepare() left (QpSession::solve); its status.
+  qp::QpStatus solve_prepared_qp(QpBudget b) {
+    return session_.solve(qp_, qp_.stage[0].lbx, settings_.qp, matrices_checked_,
+                          settings_.cold_start, b, info_.qp_ipm_iterations);
   }
 
-  /// QP update (only the vectors after prepare()'s prefactorization) and warm-started solve;
-  /// the QP's status.
-  qp::QpStatus solve_prepared_qp() {
-    const bool fresh = qp_setup_ && applied_qp_ == settings_.qp;  // the QP as prepare() left it
-    const bool vectors = vectors_only_ && fresh;
-    const bool presolved = presolved_ && vectors;
-    vectors_only_ = false;
-    presolved_ = false;
-    // the feedback's bound on the QP's iterations, else the settings' cap
-    const bool bounded = qp_cap_ > 0 && qp_cap_ < settings_.qp.max_iter;
-    if (presolved) {  // only x_0's bounds changed since prepare(): its step, moved to them
-      solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
-      solver_.settings().last_iterate_at_cap = bounded;
-      return solver_.solve_from_initial_state(qp_.stage[0].lbx);
-    }
-    const qp::QpStatus st = vectors ? solver_.update_vectors() : update_qp();
-    if (st != qp::QpStatus::accepted)
-      return st;
-    solver_.settings().max_iter = bounded ? qp_cap_ : settings_.qp.max_iter;
-    solver_.settings().last_iterate_at_cap = bounded;  // a bounded feedback's progress
-    if (cold_start_due()) {
-      // a cold start: the interior point, then the active set from its crossover point
-      if (cold_start_(*this))
-        return solver_.solve();
-    }
-    solver_.x().setZero();  // (the multipliers are the solver's own: its warm start)
-    return solver_.solve();
-  }
-
-  /// Whether the next QP solve starts with the interior point (a workspace is set and every
-  /// multiplier is zero: nothing to warm-start from).
-  bool cold_start_due() const {
-    return cold_start_ != nullptr && (lam_bounds().array() == Scalar(0)).all() &&
-           (lam_rows().array() == Scalar(0)).all();
-  }
-
-  /// The interior point on the QP from x = 0 and, when it ends at a crossover point, the active
-  /// set's warm start from there; true when the active set should start from it.
-  static bool run_cold_start(Nmpc& c) {
-    const qp::IpmStatus is = c.ipm_->solve(c.qp_, c.settings_.cold_start);
-    c.info_.qp_ipm_iterations += c.ipm_->info().iterations;
-    if (!qp::crossover_point(is))
-      return false;
-    c.ipm_->warm_start(c.solver_);
-    return true;
-  }
-
-  /// Records a QP solve; step_taken when it gave a finite solution, else qp_failed.
-  NmpcStatus finish_qp(qp::QpStatus st) {
+  /// Records a QP solve within budget b; step_taken when it gave a finite solution (or a capped
+  /// iterate), else qp_failed.
+  QpStep finish_qp(qp::QpStatus st, QpBudget b) {
     info_.qp_status = st;
-    info_.qp_presolved = solver_.info().presolved;
-    info_.qp_iterations += solver_.info().iterations;
+    info_.qp_presolved = solver().info().presolved;
+    info_.qp_iterations += solver().info().iterations;
     ++info_.iterations;
     // a stall (or the cap) at the scalar's round-off floor, near the tolerances: the step is
     // usable (settings.hpp, accept_stalled_qp)
-    info_.qp_merit = solver_.info().merit;
-    // stopped by the feedback's bound (feedback_qp_iterations), not by the settings' cap
-    limited_ = st == qp::QpStatus::iteration_limit && solver_.settings().last_iterate_at_cap;
-    const bool usable = st == qp::QpStatus::solved || limited_ ||
+    info_.qp_merit = solver().info().merit;
+    // stopped by the caller's bound (feedback_qp_iterations), not by the settings' cap
+    const bool capped = st == qp::QpStatus::iteration_limit && b.last_iterate_at_cap;
+    const bool usable = st == qp::QpStatus::solved || capped ||
                         ((st == qp::QpStatus::stalled || st == qp::QpStatus::iteration_limit) &&
-                         solver_.info().merit <= settings_.accept_stalled_qp);
+                         solver().info().merit <= settings_.accept_stalled_qp);
     // (qp::detail::all_finite: one multiply-add per entry where Eigen's allFinite() takes several)
-    if (!usable || !qp::detail::all_finite(solver_.x(), lam_bounds(), lam_rows())) {
+    if (!usable || !qp::detail::all_finite(solver().x(), lam_bounds(), lam_rows())) {
       // The multipliers are the solver's iterate (one copy, no backup): keep its best iterate
       // (iteration limit, stall) as the next warm start, reset anything else (an infeasibility
       // or unboundedness certificate, non-finite values).
@@ -690,10 +600,10 @@ class Nmpc {
         lam_bounds().setZero();
         lam_rows().setZero();
       }
-      return NmpcStatus::qp_failed;
+      return {NmpcStatus::qp_failed, false};
     }
-    info_.step_norm = solver_.x().cwiseAbs().maxCoeff();
-    return NmpcStatus::step_taken;
+    info_.step_norm = solver().x().cwiseAbs().maxCoeff();
+    return {NmpcStatus::step_taken, capped};
   }
 
   bool parameters_finite() const {
@@ -713,24 +623,20 @@ class Nmpc {
   /// Stationarity and complementarity are relative to 1 + max(|grad f|_inf, |lambda|_inf) (as the
   /// QP's tolerances are); the primal residual is absolute.
   bool converged() const {
-    Scalar g = std::fmax(lam_bounds().cwiseAbs().maxCoeff(), lam_rows().cwiseAbs().maxCoeff());
-    for (const auto& st : qp_.stage)
-      g = std::fmax(g, std::fmax(st.q.cwiseAbs().maxCoeff(), st.r.cwiseAbs().maxCoeff()));
-    g = std::fmax(g, qp_.terminal.q.cwiseAbs().maxCoeff());
-    return info_.stationarity <= settings_.tol_stationarity * (Scalar(1) + g) &&
+    const Scalar scale = kkt_scale(qp_, lam_bounds(), lam_rows());
+    return info_.stationarity <= settings_.tol_stationarity * scale &&
            info_.primal_residual <= settings_.tol_primal &&
-           info_.complementarity <= settings_.tol_complementarity * (Scalar(1) + g);
+           info_.complementarity <= settings_.tol_complementarity * scale;
   }
 
   /// Takes x += alpha dx, w += alpha dw, lambda = lambda_QP.
-  NmpcStatus take_step(Scalar alpha) {
+  void take_step(Scalar alpha) {
     for (int k = 0; k <= N; ++k)
-      x_[std::size_t(k)] += alpha * solver_.state(k);
+      x_[std::size_t(k)] += alpha * solver().state(k);
     for (int k = 0; k < N; ++k)
-      w_[std::size_t(k)] += alpha * solver_.input(k);
+      w_[std::size_t(k)] += alpha * solver().input(k);
     // full multiplier step: the QP's multipliers, already in place, are the estimate
     info_.step_size = alpha;
-    return NmpcStatus::step_taken;
   }
 
   /// g'd for the solver's step d (the QP gradient is the cost's gradient).
@@ -738,9 +644,9 @@ class Nmpc {
     Scalar s = 0;
     for (int k = 0; k < N; ++k) {
       const auto& st = qp_.stage[std::size_t(k)];
-      s += st.q.dot(solver_.state(k)) + st.r.dot(solver_.input(k));
+      s += st.q.dot(solver().state(k)) + st.r.dot(solver().input(k));
     }
-    return s + qp_.terminal.q.dot(solver_.state(N));
+    return s + qp_.terminal.q.dot(solver().state(N));
   }
 
   /// Cost and L1 violation (dynamics, constraints, bounds, x_0 = x0) at the plan + alpha d.
@@ -749,11 +655,11 @@ class Nmpc {
     auto add_bounds = [&m](const auto& v, const auto& lb, const auto& ub) {
       m.violation += (lb - v).cwiseMax(Scalar(0)).sum() + (v - ub).cwiseMax(Scalar(0)).sum();
     };
-    Vx xk = x_[0] + alpha * solver_.state(0);
+    Vx xk = x_[0] + alpha * solver().state(0);
     m.violation += (xk - x0).cwiseAbs().sum();
     for (int k = 0; k < N; ++k) {
-      const Vw wk = w_[std::size_t(k)] + alpha * solver_.input(k);
-      const Vx xn = x_[std::size_t(k + 1)] + alpha * solver_.state(k + 1);
+      const Vw wk = w_[std::size_t(k)] + alpha * solver().input(k);
+      const Vx xn = x_[std::size_t(k + 1)] + alpha * solver().state(k + 1);
       const ocp::StageMerit<Scalar> s = ocp::path_merit(problem_, xk, wk, p_[std::size_t(k)], xn);
       m.cost += s.cost;
       m.violation += s.violation;
@@ -770,34 +676,21 @@ class Nmpc {
     return m;
   }
 
-  P problem_;                             ///< the OCP (expressions, default bounds)
-  Settings settings_;                     ///< settings
-  std::array<Vx, N + 1> x_;               ///< planned states x_0..x_N
-  std::array<Vw, N> w_;                   ///< planned inputs and slacks [u_k; s_k]
-  std::array<Vp, N + 1> p_;               ///< stage parameters
-  std::array<Vx, N + 1> lbx_, ubx_;       ///< state bounds per stage
-  std::array<Vu, N> lbu_, ubu_;           ///< input bounds per stage
-  Qp qp_;                                 ///< the QP of the current linearisation
-  QpSolver solver_;                       ///< its solver (points to qp_)
-  Info info_{};                           ///< figures of the last call
-  Scalar penalty_ = 0;                    ///< L1 merit penalty nu
-  bool prepared_ = false;                 ///< prepare() succeeded, feedback() not yet run
-  Vx embedded_ = Vx::Zero();              ///< the x0 of the last embed()
-  bool qp_setup_ = false;                 ///< solver_.setup(qp_) was accepted once
-  qp::QpSettings<Scalar> applied_qp_{};   ///< the QP settings the solver runs with
-  std::array<Scalar, 4> recent_merit_{};  ///< merits of the last accepted points
-  int merit_count_ = 0;                   ///< accepted points in the merit history
-  Vx last_x0_ = Vx::Constant(std::numeric_limits<Scalar>::quiet_NaN());  ///< x0 of that history
-  StopLaw stop_law_ = nullptr;     ///< the fallback's stop law (set_stop_law)
-  void* stop_user_ = nullptr;      ///< its user pointer
-  int failed_samples_ = 0;         ///< consecutive calls whose QP failed
-  int qp_cap_ = 0;                 ///< feedback(): the bound on the QP's iterations (0: none)
-  bool limited_ = false;           ///< the last QP stopped at that bound
-  bool vectors_only_ = false;      ///< prepare() set up and prefactorized the QP: read its vectors
-  bool presolved_ = false;         ///< prepare() presolved the QP: the feedback moves x_0 only
-  bool matrices_checked_ = false;  ///< linearize_as() found every QP matrix finite
-  ColdStart* ipm_ = nullptr;       ///< the QP's interior-point cold start (caller's; nullptr: off)
-  bool (*cold_start_)(Nmpc&) = nullptr;  ///< run_cold_start when ipm_ is set
+  P problem_;                               ///< the OCP (expressions, default bounds)
+  Settings settings_;                       ///< settings
+  std::array<Vx, N + 1> x_;                 ///< planned states x_0..x_N
+  std::array<Vw, N> w_;                     ///< planned inputs and slacks [u_k; s_k]
+  std::array<Vp, N + 1> p_;                 ///< stage parameters
+  std::array<Vx, N + 1> lbx_, ubx_;         ///< state bounds per stage
+  std::array<Vu, N> lbu_, ubu_;             ///< input bounds per stage
+  Qp qp_;                                   ///< the QP of the current linearisation
+  Session session_;                         ///< its solver (points to qp_) and preparation
+  Safety safety_;                           ///< recovery and fallback
+  Info info_{};                             ///< figures of the last call
+  detail::MeritHistory<Scalar, nx> merit_;  ///< the line search's penalty and merits
+  bool prepared_ = false;                   ///< prepare() succeeded, feedback() not yet run
+  Vx embedded_ = Vx::Zero();                ///< the x0 of the last embed()
+  bool matrices_checked_ = false;           ///< linearize_as() found every QP matrix finite
 };
 
 }  // namespace arbor::nmpc

@@ -90,4 +90,14 @@ KktResiduals<T> kkt_residuals(const qp::OcpQp<T, N, NX, NU, NG, NGN>& qp, const 
   return r;
 }
 
+/// The scale of the relative tolerances at the point where `qp` was built:
+/// 1 + max(|grad f|_inf, |lambda|_inf), with multipliers lam_x, lam_a as in kkt_residuals.
+template <class T, int N, int NX, int NU, int NG, int NGN, class LX, class LA>
+T kkt_scale(const qp::OcpQp<T, N, NX, NU, NG, NGN>& qp, const LX& lam_x, const LA& lam_a) {
+  T g = std::fmax(lam_x.cwiseAbs().maxCoeff(), lam_a.cwiseAbs().maxCoeff());
+  for (const auto& st : qp.stage)
+    g = std::fmax(g, std::fmax(st.q.cwiseAbs().maxCoeff(), st.r.cwiseAbs().maxCoeff()));
+  return T(1) + std::fmax(g, qp.terminal.q.cwiseAbs().maxCoeff());
+}
+
 }  // namespace arbor::nmpc

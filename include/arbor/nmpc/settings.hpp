@@ -49,24 +49,20 @@ struct NmpcSettings {
   /// them where they are (false, the default): the next QP then starts from the previous
   /// solution's working set stage by stage, as an online active-set strategy does (Ferreau,
   /// Bock, Diehl 2008). A controller that tracks its reference in steady state keeps its
-  /// constraints active at the same stages of the horizon from sample to sample (the contour
-  /// example rides the tunnel at stages 1-7 every sample): there the shifted multipliers put
-  /// every edge of that pattern one stage off, and the QP spent its iterations moving them back.
-  /// Contour closed loop (examples/contour, RTI, to s = 0.99), QP iterations per sample median /
-  /// max / total, shifted -> kept: OCP-FD 14 / 21 / 4 520 -> 4 / 17 / 1 420, OCP-ID 6 / 18 /
-  /// 2 143 -> 6 / 18 / 1 930 (bench/nmpc/rti_qp_diag.cpp). Shifting pays when constraints are
-  /// met at fixed times instead (a pattern entering the horizon moves one stage per sample: the
-  /// OCP-ID loop's first 50 samples took 119 iterations shifted, 171 kept). The exact-Hessian
-  /// controller's Lagrangian uses the same multipliers.
+  /// constraints active at the same stages of the horizon from sample to sample: there the
+  /// shifted multipliers put every edge of that pattern one stage off, and the QP spends its
+  /// iterations moving them back (docs/nmpc.md section 2, warm start: the contour loop's QP
+  /// iterations). Shifting pays when constraints are met at fixed times instead (a pattern
+  /// entering the horizon moves one stage per sample). The exact-Hessian controller's
+  /// Lagrangian uses the same multipliers.
   bool shift_multipliers = false;
-  /// Settings of the QP solver: its defaults (tolerances 1e-8 in double, 1e-4 in float), with a
-  /// higher iteration cap for cold starts of long horizons. Tighter QP tolerances give SQP steps
-  /// accurate enough to meet tighter NLP tolerances (the tests comparing with IPOPT use 1e-11),
-  /// but the active-set QP may then not reach them on robot-sized problems (the Kinova example
-  /// hit the iteration cap at 1e-10).
-  /// In double the dual proximal weight is 1e-8 (the QP's default 1e-6 made a pendulum QP from
-  /// a constant guess, 40 stages of unstable dynamics, take 4 252 iterations for 42 working-set
-  /// changes; 1e-8: 90). The dynamics rows the NMPC adds are never dependent.
+  /// Settings of the QP solver: its defaults (qp/settings.hpp), with a higher iteration cap for
+  /// cold starts of long horizons. Tighter QP tolerances give SQP steps accurate enough to meet
+  /// tighter NLP tolerances, but the active-set QP may then not reach them on robot-sized
+  /// problems (docs/nmpc.md section 2, termination).
+  /// In double the dual proximal weight is below the QP's default: a larger one slows the
+  /// working-set changes of long horizons of unstable dynamics (bench/nmpc/RESULTS.md: a
+  /// pendulum QP from a constant guess). The dynamics rows the NMPC adds are never dependent.
   qp::QpSettings<Scalar> qp = [] {
     qp::QpSettings<Scalar> s{};
     s.max_iter = 1000;
@@ -87,12 +83,11 @@ struct NmpcSettings {
   FallbackPolicy fallback = FallbackPolicy::relax;  ///< see FallbackPolicy
   /// A QP that ends `stalled` or at its iteration cap with its largest residual within this many
   /// tolerances (qp::SolveInfo::merit) still gives the step (the call reports step_taken or
-  /// converged as usual; info().qp_status keeps the QP's own status). Float's default, 100, is a
+  /// converged as usual; info().qp_status keeps the QP's own status). Float's default is a
   /// relative residual of 1e-2: the round-off floor of a float Riccati solve over tens of
-  /// ill-conditioned stages lies between its 1e-4 tolerance and there (issue 35: a float RTI loop
-  /// after a state jump stalled at merit 2-30 on samples a double loop solved, and replayed its
-  /// stale plan); such a step is as good as the QP can make it in float. Double's default, 0,
-  /// never takes an unsolved QP (its tolerances sit far above its round-off floor).
+  /// ill-conditioned stages lies between its tolerance and there, and such a step is as good as
+  /// the QP can make it in float (docs/nmpc.md section 6). Double's default, 0, never takes an
+  /// unsolved QP (its tolerances sit far above its round-off floor).
   Scalar accept_stalled_qp = Scalar(single ? 100 : 0);
   /// A bound on the work of feedback(): its QP stops after this many active-set iterations
   /// (0: no bound but qp.max_iter). Each iteration is one linear solve and at most one
@@ -115,23 +110,19 @@ struct NmpcSettings {
   /// it while its working set holds; a feedback that starts the interior-point cold start, or
   /// after a change of settings().qp, solves as without it. Cost: one more Riccati solve per
   /// sample (the response), moved with most of the first QP iteration from the feedback into
-  /// the preparation; on the contour task (bench/nmpc/RESULTS.md, instructions) the feedback
-  /// -23 % on the host and -22 % on the Cortex-M7, the sample +3.8 % and +2.2 %. On by default
-  /// (the latency from measurement to control is the feedback's); off where the sample's total
-  /// alone decides.
+  /// the preparation (docs/nmpc.md section 7: the contour task's figures). On by default (the
+  /// latency from measurement to control is the feedback's); off where the sample's total alone
+  /// decides.
   bool presolve_feedback = true;
   /// A proximal term on the inputs: mu added to the diagonal of every path stage's input Hessian
   /// (the nu input rows, not the slacks), so that each QP also minimises mu/2 |du|^2: a
   /// Levenberg-Marquardt damping of the step. Converged solutions stay where they are (du = 0
   /// there: the KKT conditions are unchanged), so solve() reaches the same optimum, in more
-  /// iterations when mu is large. Its use is the real-time iteration (one step per sample), and
-  /// its window is narrow: on a random 7-DoF robot with a hard tunnel, a measured-state jump of
-  /// 0.02-0.05 rad started a growing period-2 oscillation of the joint velocities without it
-  /// (70-84 of 200 samples on the relaxed fallback, the arm 0.1-0.46 m out of the tunnel); mu =
-  /// 1e-3 or 1e-2 removed it (no fallback, back in the tunnel; 6-13 fallback samples instead of
-  /// 65-75 after jumps of 0.1-0.3 rad); 1e-4 changed little and 3e-2 or more made the loop
-  /// diverge (tests/nmpc/random_matrix_test.cpp, HardTunnelRtiRecoversFromASmallJump...). In the
-  /// units of the cost's input Hessian. 0 (the default): no term.
+  /// iterations when mu is large. Its use is the real-time iteration (one step per sample), where
+  /// it can damp an oscillation of the undamped steps; its window is narrow, too small changes
+  /// nothing and too large makes the loop diverge (docs/nmpc.md section 7, damping; the test:
+  /// tests/nmpc/random_matrix_test.cpp). In the units of the cost's input Hessian. 0 (the
+  /// default): no term.
   Scalar input_regularization = Scalar(0);
   /// The interior-point cold start's settings (Nmpc::set_cold_start_workspace).
   qp::IpmSettings<Scalar> cold_start{};

@@ -7,11 +7,11 @@
 
 namespace arbor::nmpc {
 
-/// Outcome of solve(), prepare() or feedback().
+/// Outcome of a controller call: solve(), prepare(), feedback(), the phases and the setters.
 enum class NmpcStatus : unsigned char {
   converged,              ///< solve(): the NLP's KKT residuals are below the tolerances
   step_taken,             ///< feedback() (real-time iteration): one full SQP step was taken
-  prepared,               ///< prepare(): the QP is linearised; feedback() may run
+  prepared,               ///< prepare() (feedback() may run), linearize(): the QP is linearised
   iteration_limit,        ///< solve(): max_iter SQP iterations without convergence
   qp_failed,              ///< the QP was rejected or not solved (NmpcInfo::qp_status says why)
   line_search_failed,     ///< solve(): no step length gave sufficient merit decrease
@@ -33,6 +33,9 @@ enum class NmpcStatus : unsigned char {
   /// taken (dynamics held, inputs clipped to their bounds); info().qp_merit says how far from
   /// solved it was. The next sample's QP continues from its working set.
   step_limited,
+  /// a setter (set_initial_guess, set_state_guess, set_input_guess): the value was stored;
+  /// feedback() needs a prepare() after it
+  accepted,
 };
 
 /// Name of a status, for logs and test messages.
@@ -64,16 +67,18 @@ constexpr const char* to_string(NmpcStatus s) {
       return "fallback_stop";
     case NmpcStatus::step_limited:
       return "step_limited";
+    case NmpcStatus::accepted:
+      return "accepted";
   }
   return "unknown";
 }
 
-/// True when the status means the plan was updated as requested (recovering included: the
-/// request was met as well as the measured state allows; step_limited too: the step the user's
-/// bound on the work allowed).
+/// True when the call did what it was asked (recovering included: the request was met as well
+/// as the measured state allows; step_limited too: the step the user's bound on the work
+/// allowed).
 constexpr bool succeeded(NmpcStatus s) {
   return s == NmpcStatus::converged || s == NmpcStatus::step_taken || s == NmpcStatus::prepared ||
-         s == NmpcStatus::recovering || s == NmpcStatus::step_limited;
+         s == NmpcStatus::recovering || s == NmpcStatus::step_limited || s == NmpcStatus::accepted;
 }
 
 /// True when control() comes from a fallback (the QP kept failing).
