@@ -144,7 +144,7 @@ class ContourMpc {
       u0.head<nq>() = arbor::rnea<Robot>(model, VecN<double, nq>(x0.head<nq>()),
                                          VecN<double, nq>::Zero(), VecN<double, nq>::Zero());
     auto st = ctrl_.set_initial_guess(x0.cast<Scalar>(), u0.cast<Scalar>());
-    if (st != arbor::nmpc::NmpcStatus::prepared)
+    if (st != arbor::nmpc::NmpcStatus::accepted)
       return st;
     auto& set = ctrl_.settings();
     set.shift_multipliers = options_.shift_multipliers;

@@ -314,9 +314,9 @@ TEST(GeneratedStage, RtiLoopMatchesTheExpressionLayer) {
   for (int i = 0; i < nv; ++i)  // (not a comma initializer: GCC 12's -Warray-bounds misreads
     x0[i] = qs[i];              // its AVX load of the 3-vector at -O3 -march=native)
   const VecN<double, nv> u0 = VecN<double, nv>::Zero();
-  ASSERT_EQ(ce.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
-  ASSERT_EQ(cg.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
-  ASSERT_EQ(cs.set_initial_guess(x0, u0), nmpc::NmpcStatus::prepared);
+  ASSERT_EQ(ce.set_initial_guess(x0, u0), nmpc::NmpcStatus::accepted);
+  ASSERT_EQ(cg.set_initial_guess(x0, u0), nmpc::NmpcStatus::accepted);
+  ASSERT_EQ(cs.set_initial_guess(x0, u0), nmpc::NmpcStatus::accepted);
   const auto se = ce.solve(x0), sg = cg.solve(x0);
   EXPECT_EQ(se, sg);
   EXPECT_EQ(cs.solve(x0), sg);

@@ -103,8 +103,7 @@ class Nmpc {
       lbu_[std::size_t(k)] = problem.lbu.template cast<Scalar>();
       ubu_[std::size_t(k)] = problem.ubu.template cast<Scalar>();
     }
-    lam_bounds().setZero();
-    lam_rows().setZero();
+    session_.reset_multipliers();
   }
   Nmpc(const Nmpc&) = delete;  // the QP solver points into this object
   Nmpc& operator=(const Nmpc&) = delete;
@@ -121,8 +120,7 @@ class Nmpc {
       wk.setZero();
       wk.template head<nu>() = u;
     }
-    lam_bounds().setZero();
-    lam_rows().setZero();
+    session_.reset_multipliers();
     prepared_ = false;
     return NmpcStatus::accepted;
   }
@@ -290,7 +288,7 @@ class Nmpc {
     // name, which the feedback starts from) runs now, before the measurement; the feedback
     // re-reads only the vectors (qp::OcpQpSolver::update_vectors, prefactorize)
     // (and, unless the feedback runs the interior-point cold start, the QP's first step for
-    // this x_0: the feedback moves it to the measured one, qp::OcpQpSolver::presolve)
+    // this x_0: the feedback moves it to the measured one, qp::OcpQpSolver::prepare_start)
     if (session_.update(qp_, settings_.qp, matrices_checked_) == qp::QpStatus::accepted)
       session_.prepare(settings_.presolve_feedback && !session_.cold_start_due());
     prepared_ = true;
@@ -354,8 +352,7 @@ class Nmpc {
     if (xn.allFinite())
       x_[N] = xn;
     if (settings_.shift_multipliers) {
-      QpSolver::shift_variables(lam_bounds());
-      QpSolver::shift_rows(lam_rows());
+      session_.shift_multipliers();
     }
     prepared_ = false;
   }
@@ -532,7 +529,6 @@ class Nmpc {
 
   /// The multiplier estimate: the QP solver's multipliers (flat; its warm start and its result,
   /// stored once).
-  auto& lam_bounds() { return session_.solver().lam_x(); }
   const auto& lam_bounds() const { return session_.solver().lam_x(); }
   /// The Gauss-Newton path stages L = ocp::path_lanes at a time (ocp::linearize_paths: the
   /// generated stage code in SIMD lanes), as many whole groups of L as N holds (linearize_as
@@ -564,7 +560,6 @@ class Nmpc {
     return k0;
   }
 
-  auto& lam_rows() { return session_.solver().lam_a(); }
   const auto& lam_rows() const { return session_.solver().lam_a(); }
   QpSolver& solver() { return session_.solver(); }
   const QpSolver& solver() const { return session_.solver(); }
@@ -597,8 +592,7 @@ class Nmpc {
       // or unboundedness certificate, non-finite values).
       if (st == qp::QpStatus::infeasible || st == qp::QpStatus::unbounded ||
           !qp::detail::all_finite(lam_bounds(), lam_rows())) {
-        lam_bounds().setZero();
-        lam_rows().setZero();
+        session_.reset_multipliers();
       }
       return {NmpcStatus::qp_failed, false};
     }

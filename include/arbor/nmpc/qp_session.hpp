@@ -74,19 +74,21 @@ class QpSession {
 
   /// The preparation after an accepted update(): the first factorization for the working set
   /// the multipliers name and, with presolve, the first step for the current x_0 (the solve
-  /// moves it to the measured one, qp::OcpQpSolver::presolve).
+  /// moves it to the measured one, qp::OcpQpSolver::prepare_start).
   void prepare(bool presolve) {
-    if (presolve)
-      prepared_ = solver_.presolve() >= 0 ? Prepared::presolved : Prepared::none;
-    else
+    if (presolve) {
+      start_ = solver_.prepare_start();
+      prepared_ = start_.stages_factorized() >= 0 ? Prepared::presolved : Prepared::none;
+    } else {
       prepared_ = solver_.prefactorize() >= 0 ? Prepared::factorized : Prepared::none;
+    }
   }
 
   /// Moves stage k's state bounds [lb, ub] (relaxed after prepare()) into a presolved QP's copy;
   /// the presolved step is dropped (the factorization kept) when its working set does not hold.
   void move_state_bounds(int k, const Vx& lb, const Vx& ub) {
     if (prepared_ == Prepared::presolved &&
-        solver_.set_state_bounds(k, lb, ub) != qp::QpStatus::accepted)
+        solver_.set_state_bounds(start_, k, lb, ub) != qp::QpStatus::accepted)
       prepared_ = Prepared::factorized;
   }
   bool presolved() const { return prepared_ == Prepared::presolved; }
@@ -101,7 +103,7 @@ class QpSession {
     prepared_ = Prepared::none;             // consumed by this solve
     if (prepared == Prepared::presolved) {  // only x_0's bounds changed: the step, moved to them
       set_budget(b);
-      return solver_.solve_from_initial_state(x0);
+      return solver_.solve_from(start_, x0);
     }
     const qp::QpStatus st = prepared == Prepared::factorized ? solver_.update_vectors()
                                                              : update(qp, s, matrices_checked);
@@ -110,8 +112,24 @@ class QpSession {
     set_budget(b);
     if (cold_start_due() && cold_start_(*this, qp, cold, ipm_iterations))
       return solver_.solve();  // the active set from the interior point's crossover point
-    solver_.x().setZero();     // (the multipliers are the solver's own: its warm start)
+    // x = 0; the multipliers are the solver's own: its warm start
+    solver_.edit_warm_start([](auto& x, auto&, auto&) { x.setZero(); });
     return solver_.solve();
+  }
+
+  /// The multiplier estimate (the solver's warm start) set to zero: a cold start.
+  void reset_multipliers() {
+    solver_.edit_warm_start([](auto&, auto& lam_x, auto& lam_a) {
+      lam_x.setZero();
+      lam_a.setZero();
+    });
+  }
+  /// The multiplier estimate moved one stage earlier (Solver::shift_variables / shift_rows).
+  void shift_multipliers() {
+    solver_.edit_warm_start([](auto&, auto& lam_x, auto& lam_a) {
+      Solver::shift_variables(lam_x);
+      Solver::shift_rows(lam_a);
+    });
   }
 
  private:
@@ -132,11 +150,12 @@ class QpSession {
     return true;
   }
 
-  Solver solver_;                       ///< the solver (points to the caller's QP)
-  Prepared prepared_ = Prepared::none;  ///< what prepare() left for the current matrices
-  bool setup_ = false;                  ///< solver_.setup() was accepted once
-  Settings applied_{};                  ///< the QP settings the solver runs with
-  ColdStart* ipm_ = nullptr;            ///< the interior-point workspace (caller's; nullptr: off)
+  Solver solver_;                           ///< the solver (points to the caller's QP)
+  Prepared prepared_ = Prepared::none;      ///< what prepare() left for the current matrices
+  typename Solver::PreparedStart start_{};  ///< prepare()'s first step (valid with presolved)
+  bool setup_ = false;                      ///< solver_.setup() was accepted once
+  Settings applied_{};                      ///< the QP settings the solver runs with
+  ColdStart* ipm_ = nullptr;  ///< the interior-point workspace (caller's; nullptr: off)
   bool (*cold_start_)(QpSession&, const Qp&, const qp::IpmSettings<Scalar>&, int&) = nullptr;
 };
 

@@ -103,7 +103,7 @@ struct NmpcSettings {
   /// the same bound. solve() is not bounded by it.
   int feedback_qp_iterations = 0;
   /// prepare() also computes the first step of the feedback's QP for the predicted x_0
-  /// (qp::OcpQpSolver::presolve), and feedback() adds its response to the measured one (a
+  /// (qp::OcpQpSolver::prepare_start), and feedback() adds its response to the measured one (a
   /// forward Riccati sweep) instead of evaluating the QP's residuals and solving: less latency,
   /// more work per sample. The same iterates to round-off. A recovery (relaxed state bounds)
   /// moves the relaxed bounds into the prepared QP (qp::OcpQpSolver::set_state_bounds) and keeps

@@ -160,22 +160,6 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     return move_state_bounds(&prepared, k, lb, ub);
   }
 
-  // TODO(house-merge): controller moves to `prepared_ = solver_.prepare_start()` (a member of
-  // the controller) and prepared_.stages_factorized(); remove (with legacy_prepared_)
-  int presolve() {
-    legacy_prepared_ = prepare_start();
-    return legacy_prepared_.stages_factorized();
-  }
-  // TODO(house-merge): controller moves to solve_from(prepared_, x0); remove
-  [[nodiscard]] QpStatus solve_from_initial_state(const Eigen::Matrix<Scalar, NX, 1>& x0) {
-    return solve_from(legacy_prepared_, x0);
-  }
-  // TODO(house-merge): controller moves to set_state_bounds(prepared_, k, lb, ub); remove
-  [[nodiscard]] QpStatus set_state_bounds(int k, const Eigen::Matrix<Scalar, NX, 1>& lb,
-                                          const Eigen::Matrix<Scalar, NX, 1>& ub) {
-    return move_state_bounds(&legacy_prepared_, k, lb, ub);
-  }
-
   /// Moves the primal and dual solution one stage earlier, for the warm start of the next
   /// sample: stage k receives what stage k+1 held (x_k, u_k, the multipliers of their bounds,
   /// of the dynamics row dyn_k and of gen_k). The last stage repeats: x_N, u_{N-1}, their bound
@@ -353,10 +337,6 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     c.lba.template tail<NGN>() = t.lg;
     c.uba.template tail<NGN>() = t.ug;
   }
-
-  // TODO(house-merge): the prepared start of presolve(), solve_from_initial_state() and
-  // set_state_bounds(k, ...); remove with them
-  PreparedStart legacy_prepared_{};
 };
 
 }  // namespace arbor::qp

@@ -80,23 +80,6 @@ class ActiveSetSolver {
   /// Multipliers of the rows (same sign convention); stationarity: H x + g + lam_x + A' lam_a = 0.
   const VecA& lam_a() const { return core_.lam_a; }
 
-  // TODO(house-merge): controller moves to edit_warm_start() (writes) and the const views
-  // (reads); remove. Writable views: calling one invalidates every prepared start (a reference
-  // kept across a preparation is not watched).
-  VecV& x() {
-    core_.note_change();
-    return core_.x;
-  }
-  // TODO(house-merge): controller moves to edit_warm_start() / const lam_x(); remove
-  VecV& lam_x() {
-    core_.note_change();
-    return core_.lam_x;
-  }
-  // TODO(house-merge): controller moves to edit_warm_start() / const lam_a(); remove
-  VecA& lam_a() {
-    core_.note_change();
-    return core_.lam_a;
-  }
   /// Report of the last solve.
   const SolveInfo<Scalar>& info() const { return info_; }
   /// Settings in use (may be changed between solves).

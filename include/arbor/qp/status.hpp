@@ -71,8 +71,8 @@ struct SolveInfo {
   Scalar merit = 0;
   int active_constraints = 0;  ///< size of the final working set (equalities included)
   int cycling_refusals = 0;    ///< drops refused by the anti-cycling rule (active_set.hpp)
-  /// The first step was presolve()'s, moved to the new initial state (OcpQpSolver's
-  /// solve_from_initial_state()); false when that solve ran as solve().
+  /// The first step was prepare_start()'s, moved to the new initial state (OcpQpSolver's
+  /// solve_from()); false when that solve ran as solve().
   bool presolved = false;
 };
 
