@@ -147,9 +147,11 @@ int main(int argc, char** argv) {
       auto replay = [&](const auto& lxs, const auto& las) {
         if (rs.setup(c.qp(), c.settings().qp) != arbor::qp::QpStatus::accepted)
           return -1;
-        rs.x().setZero();
-        rs.lam_x() = lxs;
-        rs.lam_a() = las;
+        rs.edit_warm_start([&](auto& x, auto& lx_, auto& la_) {
+          x.setZero();
+          lx_ = lxs;
+          la_ = las;
+        });
         return rs.solve() == arbor::qp::QpStatus::solved ? rs.info().iterations : -1000;
       };
       its_shifted.push_back(replay(lx, la));
@@ -230,9 +232,11 @@ int main(int argc, char** argv) {
       static LoggingSolver rs;  // (static: large)
       g_log.clear();
       if (rs.setup(q, c.settings().qp) == arbor::qp::QpStatus::accepted) {
-        rs.x().setZero();
-        rs.lam_x() = lx;
-        rs.lam_a() = la;
+        rs.edit_warm_start([&](auto& x, auto& lx_, auto& la_) {
+          x.setZero();
+          lx_ = lx;
+          la_ = la;
+        });
         const auto st = rs.solve();
         std::printf("     replay %s its %d:", arbor::qp::to_string(st), rs.info().iterations);
         for (const auto& ch : g_log) {

@@ -174,11 +174,18 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
   /// working set these name (a warm start).
   template <class Solver>
   void warm_start(Solver& solver) {
-    solver.x() = w_;
-    auto& lx = solver.lam_x();
-    auto& la = solver.lam_a();
-    lx.setZero();
-    la.setZero();
+    solver.edit_warm_start([&](auto& x, auto& lx, auto& la) {
+      x = w_;
+      lx.setZero();
+      la.setZero();
+      info_.guessed_active = write_multipliers(lx, la);
+    });
+  }
+
+ private:
+  /// The crossover multipliers into lx, la (zero on entry); returns how many are guessed active.
+  template <class LX, class LA>
+  int write_multipliers(LX& lx, LA& la) const {
     int active = 0;
     for (int i = 0; i < NI; ++i) {
       Scalar y = 0;
@@ -198,9 +205,10 @@ class OcpInteriorPoint<OcpQp<Scalar, N, NX, NU, NG, NGN>> {
       la.template segment<NX>(Problem::dynamics_offset(k)) = nu_.template segment<NX>(k * NX);
     // x_0: its equality's multiplier closes stationarity (rw_ without the bound term)
     lx.template head<NX>() = -rw_.template head<NX>();
-    info_.guessed_active = active;
+    return active;
   }
 
+ public:
   /// The primal iterate (flat layout of problem.hpp).
   const VecV& x() const { return w_; }
   /// Report of the last solve().
