@@ -253,8 +253,6 @@ REPEATS = [
     ("docs/nmpc.md", r"OcpInteriorPoint<Ctrl::Qp>, ~(\d+) KB", lambda c: ipm_kb(c)[:1]),
     ("include/arbor/qp/ocp_interior_point.hpp", r"~(\d+) KB at the Kinova size in double",
      lambda c: ipm_kb(c)[:1]),
-    ("include/arbor/nmpc/controller.hpp", r"~(\d+) KB at the Kinova size in double",
-     lambda c: ipm_kb(c)[:1]),
 ]
 
 
