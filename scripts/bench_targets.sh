@@ -120,8 +120,10 @@ done
   echo "| target | variant | cold instructions | cold iterations | warm instructions | warm iterations | status (cold/warm) | solver [B] | stack [B] |"
   echo "|---|---|---:|---:|---:|---:|---|---:|---:|"
   grep ' QPBENCH ' "$tmp/bench.txt" | awk '{printf "| %s | %s | %s | %s | %s | %s | %s/%s | %s | %s |\n", $1, $3, $4, $5, $7, $8, $6, $9, $10, $11}'
-} >"$out"
-cat "$out"
+} >"$tmp/record.md"
+cat "$tmp/record.md"
+# the new record becomes the newest section of $out; its Current figures table and older record stay
+python3 "$root/scripts/results_file.py" "$out" "$tmp/record.md" --command "bash scripts/bench_targets.sh"
 if grep -qE "NOT-LINEAR|NOT-REPEATABLE" "$tmp/bench.txt"; then
   echo "bench_targets: some counts were not linear or not repeatable" >&2
   exit 1

@@ -137,8 +137,19 @@ def main():
     cpu = ctx.get("host_name", platform.node())
     lines.append(f"Machine: {ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz "
                  f"({cpu}), build type Release, -O3 -march=native; date {ctx.get('date', '?')}.\n")
-    with open(os.path.join(out_dir, "RESULTS.md"), "w") as f:
-        f.write("\n".join(lines))
+    # The new tables become the newest dated section; the Current figures table and the older
+    # record stay (scripts/results_file.py).
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                    "scripts"))
+    import results_file
+    out = os.path.join(out_dir, "RESULTS.md")
+    old = open(out).read() if os.path.exists(out) else ""
+    text, rows = results_file.merge(old, "\n".join(lines), "bash bench/ad/report.sh",
+                                    ctx.get("date", "?")[:10], results_file.git_commit(out))
+    with open(out, "w") as f:
+        f.write(text)
+    for r in rows:
+        print(f"report.py: re-read this Current figure against the new record: {r}")
 
     # Fig. 1: grouped bars per robot, log scale.
     labels = [label for key, label in ROBOTS if f"J_FD_a/{key}" in t]

@@ -137,5 +137,6 @@ done
   echo "| target | OCP | scalar | flash [B] | static RAM [B] | stack [B] |"
   echo "|---|---|---|---:|---:|---:|"
   awk '{printf "| %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6}' "$tmp/firmware.txt"
-} >"$out"
-echo "wrote $out"
+} >"$tmp/record.md"
+# the new record becomes the newest section of $out; its Current figures table and older record stay
+python3 "$root/scripts/results_file.py" "$out" "$tmp/record.md" --command "bash bench/nmpc/contour_targets.sh"
