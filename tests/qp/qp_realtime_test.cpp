@@ -720,7 +720,9 @@ const char* case_name(Between b) {
 }
 
 /// gtest prints a failing case's parameter by its name (not as bytes).
-void PrintTo(Between b, std::ostream* os) { *os << case_name(b); }
+void PrintTo(Between b, std::ostream* os) {
+  *os << case_name(b);
+}
 
 /// Adds to changed how many of its solves changed the working set after the presolved step, to
 /// moved how many kept the prepared start after moving a working bound's target.
