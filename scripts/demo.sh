@@ -96,7 +96,7 @@ if [ "${DEMO:-contour}" = configs ]; then
       rows+=("$(awk -v cfg="$c" -v sc="$name" '
         /preparation \+ feedback/ { med = $(NF - 3); p99 = $(NF - 1); mx = $NF }
         /QP iterations per sample/ { qmed = $(NF - 3); qmax = $NF }
-        /tunnel error max/ { tun = $(NF - 8) }
+        /tunnel error max/ { for (i = 2; i <= NF; ++i) if ($i == "mm") { tun = $(i - 1); break } }
         /controller failures/ { fail = $NF }
         /statuses/ { st = $(NF - 5) " / " $(NF - 3) " / " $(NF - 1) }
         END { printf "| %s | %s | %s | %s | %s | %.2f | %s | %s | %s | %s / %s |\n", cfg, sc, med,

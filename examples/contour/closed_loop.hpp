@@ -10,7 +10,8 @@
 //   loop.start();                 // plant at x0, first OCP solved to convergence (warm start)
 //   while (!loop.done()) loop.sample(record);          // one 0.02 s sample, see sample()
 //
-// Real-time iteration (default), per sample: the plant runs the current control u_0 for h;
+// Real-time iteration (default), per sample: the plant runs the current control u_0 for h (its
+// every step watched by step_monitor.hpp: velocities and the tunnel where the hardware checks them);
 // shift(); prepare() (linearisation around the shifted plan: before the measurement); the state
 // is measured (the estimator); feedback(x) solves one QP and gives the next u_0. SQP mode (the
 // paper's): shift(), then solve(x) with at most sqp_iter iterations and the tolerances of
@@ -27,6 +28,7 @@
 #include "mpc.hpp"
 #include "options.hpp"
 #include "plant.hpp"
+#include "step_monitor.hpp"
 #include "task.hpp"
 
 namespace contour {
@@ -59,6 +61,7 @@ struct Record {
   arbor::qp::QpStatus qp_status = arbor::qp::QpStatus::solved;
   bool hold = false;                                  ///< the sample ran in the start phase
   VecN<double, nq> d_hat = VecN<double, nq>::Zero();  ///< the observer's estimate after it
+  StepPeaks peaks;  ///< max |qd_i|, |q_i| and tunnel error over the sample's plant steps (1 ms)
 };
 
 template <Formulation F, class Tag, bool Soft, class Scalar = double, class Timer = SteadyTimer>
@@ -136,7 +139,8 @@ class ContourLoop {
     namespace nm = arbor::nmpc;
     Controller& ctrl = mpc_.controller();
     const VecN<double, nu> u = ctrl.control().template cast<double>();
-    plant_.step(F, u, estimator_.substep_hook());
+    monitor_.begin(mpc_.reference(), plant_.substep_dt(), plant_.x()[14], plant_.x()[15], u[7]);
+    plant_.step(F, u, monitor_.hook(estimator_.substep_hook()));
     ++samples_;
     t_ += h;
     const VecN<double, nx>& pl = plant_.x();
@@ -184,6 +188,7 @@ class ContourLoop {
     rec.qp_status = ctrl.info().qp_status;
     rec.qp_presolved = ctrl.info().qp_presolved;
     rec.d_hat = estimator_.estimate();
+    rec.peaks = monitor_.peaks();
   }
 
   /// s reached s_end or the sample budget is spent.
@@ -211,6 +216,7 @@ class ContourLoop {
   Options options_;
   Mpc mpc_;
   Estimator estimator_;
+  StepMonitor monitor_;  ///< the limits at every plant step
   PlantModel nominal_;
   PayloadPlant payload_;
   PlantRef plant_;  // after the plants it may refer to
