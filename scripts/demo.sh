@@ -15,6 +15,11 @@
 #                and with the momentum observer; the payload declared to the controller at run
 #                time; unknown damping and armature; noise, plain and filtered), their
 #                summaries' key lines and scenarios.png side by side
+#   DEMO=disturbances  issue 59's disturbances in the middle of the task, without a start phase
+#                (--hold 0): a 0.5 kg payload attached at 2 s (and released at 4 s), a 10 N push
+#                on the forearm at 3 s, the payload with noise 1e-3 rad, a 1 ms measurement delay,
+#                all at once; CONFIG="..." adds options to every run; a table of the limits and
+#                the tunnel over every 1 ms plant step and the recovery after each event
 #   DEMO=configs the configurations side by side (examples/contour/README.md, "Configurations"):
 #                the default, without the feedback bound, the other RK4 sensitivity, and the
 #                portable one (exact, expression layer, the compiler's default CPU, no bound), on
@@ -77,6 +82,39 @@ if [ "${DEMO:-contour}" = scenarios ]; then
     plots+=("$n=$out/$n.csv")
   done
   "$py" "$root/examples/contour/plot_scenarios.py" "$out/scenarios.png" "${plots[@]}"
+  exit "$status"
+fi
+if [ "${DEMO:-contour}" = disturbances ]; then
+  # Disturbances in the middle of the task (issue 59), no start phase, the demo's configuration
+  # plus CONFIG (e.g. CONFIG="--observer"): limits and tunnel over every 1 ms plant step.
+  names=(nominal payload_at_2s payload_2s_to_4s push_3s payload_noise delay_1ms all)
+  args=("" "--payload-at 2" "--payload-at 2 --payload-release 4" "--push-at 3"
+        "--mismatch --noise 1e-3" "--delay 1"
+        "--payload-at 2 --payload-release 4 --push-at 3 --noise 1e-3 --delay 1")
+  rows=()
+  status=0
+  for i in "${!names[@]}"; do
+    n=${names[$i]}
+    echo "== $n: contour --hold 0 ${CONFIG:-} ${args[$i]} $*"
+    # shellcheck disable=SC2086
+    "$build/examples/contour/contour" --progress 0 --hold 0 --csv "$out/$n.csv" ${CONFIG:-} \
+      ${args[$i]} "$@" >"$out/$n.txt" || status=$?
+    grep -E "tunnel error max|max \|qd\||max \|tau\||final s|failures|after the" "$out/$n.txt"
+    rows+=("$(awk -v sc="$n" '
+      /tunnel error max/ { for (i = 2; i <= NF; ++i) if ($i == "mm") { tun = $(i - 1); break }
+                           out = $(NF - 6) }
+      /max \|qd\|/ { qd = $4 }
+      /max \|tau\|/ { tau = $4 }
+      /final s/ { s = $3 }
+      /controller failures/ { fail = $NF }
+      /back inside rho after|never outside rho/ { ev = ev (ev ? "; " : "") $0 }
+      END { gsub(/^ +/, "", ev); printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", sc, tun,
+            out, qd, tau, s, fail, ev }' "$out/$n.txt")")
+  done
+  echo
+  echo "| scenario (--hold 0 ${CONFIG:-}) | tunnel max, every 1 ms [mm] | samples with a step outside rho | max \|qd\| / limit, every 1 ms | max \|tau\| / limit | s final | failures | after each event |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---|"
+  printf "%s\n" "${rows[@]}"
   exit "$status"
 fi
 if [ "${DEMO:-contour}" = configs ]; then

@@ -144,7 +144,12 @@ class ContourLoop {
     ++samples_;
     t_ += h;
     const VecN<double, nx>& pl = plant_.x();
-    VecN<double, nx> meas = estimator_.measure(pl, plant_.tau_applied());
+    VecN<double, nx> sensed = pl;  // what the sensors report at the sample's end
+    if (options_.delay_steps > 0) {
+      sensed.head<nq>() = monitor_.q_before(options_.delay_steps);
+      sensed.segment<nq>(nq) = monitor_.qd_before(options_.delay_steps);
+    }
+    VecN<double, nx> meas = estimator_.measure(sensed, plant_.tau_applied());
     rec.hold = mpc_.holding();
     if (estimator_.observing())
       set_parameters();

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #if CONTOUR_AUTODIFF == 2
@@ -76,6 +77,14 @@ void usage(const char* argv0) {
       "  --plant P         the simulated plant: mujoco (default when built with MuJoCo: its own\n"
       "                    URDF parser and dynamics) or arbor (arbor's aba + RK4 at 1 ms)%s\n"
       "  --mismatch        plant carries 0.5 kg at the end effector (controller: nominal model)\n"
+      "  --payload-at T    MuJoCo plant: the 0.5 kg payload attached at t = T s, in mid-motion\n"
+      "                    (unknown to the controller; implies --mismatch)\n"
+      "  --payload-release T  MuJoCo plant: the payload released at t = T s (implies --mismatch)\n"
+      "  --push-at T       MuJoCo plant: a push on the forearm from t = T s (default 10 N along\n"
+      "                    world +x for 0.1 s)\n"
+      "  --push-force F    its force [N]    --push-duration D  its length [s]\n"
+      "  --delay N         the measurement is the plant's state N plant steps (1 ms) before the\n"
+      "                    sample's end (default 0; at most 15)\n"
       "  --known-payload   as --mismatch, the payload declared to the controller at run time\n"
       "                    (ad::set_payload on its workspace; the generated robot unchanged)\n"
       "  --damping D       MuJoCo plant: joint damping D [N m s/rad] on every joint (default 0;\n"
@@ -206,6 +215,7 @@ int main(int argc, char** argv) {
   mo.urdf = CONTOUR_URDF;
 #endif
   double damping = 0, armature = 0, frictionloss = 0, plant_dt = 1e-3;
+  double payload_on = -1, payload_off = -1, push_at = -1, push_force = 10, push_duration = 0.1;
   bool euler = false;
   std::string urdf;
   std::string csv = "contour.csv";
@@ -267,6 +277,24 @@ int main(int argc, char** argv) {
       urdf = value("a file name");
     } else if (a == "--mismatch") {
       o.mismatch = true;
+    } else if (a == "--payload-at") {
+      o.mismatch = true;
+      payload_on = std::atof(value("a time [s]"));
+    } else if (a == "--payload-release") {
+      o.mismatch = true;
+      payload_off = std::atof(value("a time [s]"));
+    } else if (a == "--push-at") {
+      push_at = std::atof(value("a time [s]"));
+    } else if (a == "--push-force") {
+      push_force = std::atof(value("a force [N]"));
+    } else if (a == "--push-duration") {
+      push_duration = std::atof(value("a time [s]"));
+    } else if (a == "--delay") {
+      o.delay_steps = std::atoi(value("a number of plant steps"));
+      if (o.delay_steps < 0 || o.delay_steps >= StepMonitor::kKeep) {
+        std::fprintf(stderr, "--delay: 0 to %d plant steps\n", StepMonitor::kKeep - 1);
+        return 2;
+      }
     } else if (a == "--known-payload") {
       o.mismatch = true;
       o.known_payload = true;
@@ -318,11 +346,12 @@ int main(int argc, char** argv) {
   }
 
   const bool mujoco_only = damping != 0 || armature != 0 || frictionloss != 0 || euler ||
-                           plant_dt != 1e-3 || !urdf.empty();
+                           plant_dt != 1e-3 || !urdf.empty() || payload_on >= 0 ||
+                           payload_off >= 0 || push_at >= 0;
   if (!use_mujoco && mujoco_only) {
     std::fprintf(stderr,
-                 "--damping, --armature, --frictionloss, --plant-dt, --plant-integrator, --urdf "
-                 "need the MuJoCo plant%s\n",
+                 "--damping, --armature, --frictionloss, --plant-dt, --plant-integrator, --urdf, "
+                 "--payload-at, --payload-release, --push-at need the MuJoCo plant%s\n",
                  CONTOUR_MUJOCO ? " (--plant mujoco)" : " (this build has none)");
     return 2;
   }
@@ -338,6 +367,15 @@ int main(int argc, char** argv) {
     mo.euler = euler;
     mo.payload = o.mismatch ? PayloadRobot::payload : 0.0;
     mo.joints = {damping, armature, frictionloss};
+    mo.payload_on = payload_on;
+    mo.payload_off = payload_off;
+    mo.push_at = push_at;
+    mo.push_force = push_force;
+    mo.push_duration = push_duration;
+    if (o.delay_steps >= int(std::lround(h / plant_dt))) {
+      std::fprintf(stderr, "--delay: fewer plant steps than a sample has\n");
+      return 2;
+    }
     std::string err;
     if (!mujoco.init(mo, err)) {
       std::fprintf(stderr, "MuJoCo plant: %s\n", err.c_str());
@@ -350,6 +388,19 @@ int main(int argc, char** argv) {
                   mj_versionString(), euler ? "Euler" : "RK4", 1e3 * plant_dt, damping, armature,
                   frictionloss);
     plant_name = buf;
+    if (payload_on >= 0 || payload_off >= 0) {
+      std::snprintf(buf, sizeof buf, "; payload attached at %g s", std::max(payload_on, 0.0));
+      plant_name += buf;
+      if (payload_off >= 0) {
+        std::snprintf(buf, sizeof buf, ", released at %g s", payload_off);
+        plant_name += buf;
+      }
+    }
+    if (push_at >= 0) {
+      std::snprintf(buf, sizeof buf, "; push %g N on the forearm at %g s for %g s", push_force,
+                    push_at, push_duration);
+      plant_name += buf;
+    }
   }
 #else
   std::printf("(built without MuJoCo: arbor's plant only; Debian: libmujoco-dev)\n");
@@ -385,6 +436,8 @@ int main(int argc, char** argv) {
                 o.observer_plant_rate ? "after every plant step" : "once per sample");
   if (o.hold > 0)
     std::printf("start phase: the initial pose held for %g s\n", o.hold);
+  if (o.delay_steps > 0)
+    std::printf("measurement delay: %d plant steps\n", o.delay_steps);
   const auto st0 = loop.start();
   std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
               loop.start_iterations());
@@ -507,6 +560,37 @@ int main(int argc, char** argv) {
   std::printf("  %-34s %10.4f (%s)\n", "final s", s_final,
               s_final > o.s_end ? "reached" : "NOT reached");
   std::printf("  %-34s %10d\n", "controller failures", failures);
+  // after each plant event: the worst of the tunnel and qd until the next one, and how long the
+  // tunnel error stayed above rho after it (to the end of the last sample with a step outside)
+  {
+    std::vector<std::pair<double, const char*>> events;
+    if (payload_on > 0)
+      events.push_back({payload_on, "payload attached"});
+    if (payload_off >= 0)
+      events.push_back({payload_off, "payload released"});
+    if (push_at >= 0)
+      events.push_back({push_at, "push"});
+    std::sort(events.begin(), events.end());
+    for (std::size_t e = 0; e < events.size(); ++e) {
+      const double t0 = events[e].first;
+      const double t1 = e + 1 < events.size() ? events[e + 1].first : 1e300;
+      double worst = 0, qd_worst = 0, last_out = -1;
+      for (const Record& r : log) {
+        if (r.t <= t0 || r.t - h >= t1)
+          continue;  // samples that end after the event and start before the next one
+        worst = std::max(worst, r.peaks.e_p);
+        qd_worst = std::max(qd_worst, r.peaks.qd.maxCoeff() / qd_max);
+        if (r.peaks.e_p > rho)
+          last_out = r.t;
+      }
+      char name[64], back[64] = "never outside rho";
+      std::snprintf(name, sizeof name, "after the %s at %g s", events[e].second, t0);
+      if (last_out >= 0)
+        std::snprintf(back, sizeof back, "back inside rho after %.3f s", last_out - t0);
+      std::printf("  %-34s tunnel max %.3f mm, max |qd| %.3f of the limit, %s\n", name, 1e3 * worst,
+                  qd_worst, back);
+    }
+  }
   {
     int taken = 0, limited = 0, other = 0;
     for (const Record& r : task) {

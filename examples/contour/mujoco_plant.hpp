@@ -10,6 +10,12 @@
 //   - Unknown to the controller: a point mass at the end-effector frame (the 0.5 kg of
 //     `--mismatch`, written into the URDF as a link on a fixed joint), and damping, armature and
 //     frictionloss on every joint.
+//   - Events in the middle of the task (issue 59), at the plant's own time (0 at init(), counted
+//     per MuJoCo step): the payload attached at `payload_on` and released at `payload_off` (the
+//     fused body's mass, centre of mass and inertia switched between MuJoCo's own values with and
+//     without it: the model is compiled both ways at init()), and a push: a force of
+//     `push_force` N along world +x at the centre of mass of `push_link` (xfrc_applied) for
+//     `push_duration` s from `push_at`.
 //   - x is the plant's state [q, qd, s, sd] in arbor's joint order (mapped by joint name); each
 //     sample starts MuJoCo from x. s and sd integrate the applied sdd exactly (as plant.hpp).
 //   - The end-effector position and rotation error are those of the task's kinematics (arbor's
@@ -38,6 +44,12 @@ struct MujocoPlantOptions {
   bool euler = false;              ///< MuJoCo's Euler integrator instead of RK4
   double payload = 0;              ///< point mass at the end-effector frame [kg]
   mujoco::JointProperties joints;  ///< damping, armature, frictionloss on every joint
+  double payload_on = -1;          ///< the payload is attached at this time [s] (< 0: from 0)
+  double payload_off = -1;         ///< and released at this time [s] (< 0: never)
+  double push_at = -1;             ///< a push starts at this time [s] (< 0: none)
+  double push_force = 10;          ///< its force along world +x [N]
+  double push_duration = 0.1;      ///< its length [s]
+  std::string push_link = "forearm_link";  ///< the link pushed (at its centre of mass)
 };
 
 class MujocoPlant {
@@ -68,8 +80,40 @@ class MujocoPlant {
       return false;
     mj_.m->opt.timestep = o.dt;
     mj_.m->opt.integrator = o.euler ? mjINT_EULER : mjINT_RK4;
+    t_ = 0;
+    payload_body_ = -1;
+    if (o.payload > 0 && (o.payload_on > 0 || o.payload_off >= 0)) {
+      // MuJoCo's own fused body without the payload: the values to switch to
+      mujoco::MujocoModel<Robot> bare;
+      if (!bare.load_file(o.urdf, mujoco::PointMass{}, o.joints, err))
+        return false;
+      for (int b = 0; b < mj_.m->nbody && b < bare.m->nbody; ++b)
+        if (mj_.m->body_mass[b] != bare.m->body_mass[b])
+          payload_body_ = b;
+      if (payload_body_ < 0) {
+        err = "the payload changed no body's mass";
+        return false;
+      }
+      with_.read(mj_.m, payload_body_);
+      without_.read(bare.m, payload_body_);
+      attached_ = true;
+      set_payload(o.payload_on <= 0);
+    }
+    push_body_ = -1;
+    if (o.push_at >= 0) {
+      push_body_ = mj_name2id(mj_.m, mjOBJ_BODY, o.push_link.c_str());
+      if (push_body_ < 0) {
+        err = "no body named " + o.push_link + " to push";
+        return false;
+      }
+    }
     return true;
   }
+
+  /// The plant's time [s] (0 at init()).
+  double time() const { return t_; }
+  /// The payload is attached now.
+  bool payload_attached() const { return payload_body_ < 0 ? opt_.payload > 0 : attached_; }
 
   /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id); after each MuJoCo step
   /// hook(q, qd, tau) with the state it reached and the torque it applied (plant.hpp's Plant).
@@ -82,6 +126,7 @@ class MujocoPlant {
     mju_zero(d->qacc_warmstart, mj_.m->nv);
     const int bad = d->warning[mjWARN_BADQACC].number;
     for (int k = 0; k < substeps_; ++k) {
+      events();
       Vq tau;
       if (form == Formulation::fd) {
         tau = u.head<nq>();
@@ -97,6 +142,7 @@ class MujocoPlant {
       tau_peak = tau_peak.cwiseMax(tau.cwiseAbs());
       mj_.set_torque(tau);
       mj_step(mj_.m, d);
+      t_ += opt_.dt;
       Vq qk, vk;
       for (int i = 0; i < nq; ++i) {
         qk[i] = mj_.q(i);
@@ -134,7 +180,54 @@ class MujocoPlant {
   const mujoco::MujocoModel<Robot>& model() const { return mj_; }
 
  private:
+  /// The payload's body: mass, centre of mass and inertia (MuJoCo's fused values).
+  struct BodyInertia {
+    double mass = 0, ipos[3]{}, iquat[4]{}, inertia[3]{};
+    void read(const mjModel* m, int b) {
+      mass = m->body_mass[b];
+      for (int i = 0; i < 3; ++i) {
+        ipos[i] = m->body_ipos[3 * b + i];
+        inertia[i] = m->body_inertia[3 * b + i];
+      }
+      for (int i = 0; i < 4; ++i)
+        iquat[i] = m->body_iquat[4 * b + i];
+    }
+    void write(mjModel* m, int b) const {
+      m->body_mass[b] = mass;
+      for (int i = 0; i < 3; ++i) {
+        m->body_ipos[3 * b + i] = ipos[i];
+        m->body_inertia[3 * b + i] = inertia[i];
+      }
+      for (int i = 0; i < 4; ++i)
+        m->body_iquat[4 * b + i] = iquat[i];
+    }
+  };
+
+  void set_payload(bool on) {
+    if (payload_body_ < 0 || on == attached_)
+      return;
+    (on ? with_ : without_).write(mj_.m, payload_body_);
+    attached_ = on;
+  }
+
+  /// The events due at the plant's time, before a MuJoCo step (half a step of slack against the
+  /// time's rounding).
+  void events() {
+    const double t = t_ + 0.5 * opt_.dt;
+    if (payload_body_ >= 0)
+      set_payload((opt_.payload_on <= 0 || t >= opt_.payload_on) &&
+                  (opt_.payload_off < 0 || t < opt_.payload_off));
+    if (push_body_ >= 0) {
+      const bool on = t >= opt_.push_at && t < opt_.push_at + opt_.push_duration;
+      mj_.d->xfrc_applied[6 * push_body_] = on ? opt_.push_force : 0.0;
+    }
+  }
+
   MujocoPlantOptions opt_;
+  double t_ = 0;
+  int payload_body_ = -1, push_body_ = -1;
+  bool attached_ = true;
+  BodyInertia with_, without_;
   int substeps_ = 20;
   mujoco::MujocoModel<Robot> mj_;
   arbor::Data<Robot, double> kin_;

@@ -57,6 +57,10 @@ struct Options {
   /// (measurement - prediction), on q and qd: a fixed-gain predictor-corrector against
   /// measurement noise (a model error biases it: use it with the observer)
   double state_filter = 0;
+  /// The measurement is the plant's state this many plant steps (1 ms) before the sample's end
+  /// (a sensor and bus delay; s and sd, the controller's own states, are not delayed); at most
+  /// StepMonitor::kKeep - 1
+  int delay_steps = 0;
 };
 
 }  // namespace contour

@@ -3,11 +3,13 @@
 // called after every plant step (the plants' substep hook) with the state it reached and the
 // torque applied, and keeps, over one sample, per joint max |qd_i| and max |q_i|, and the largest
 // tunnel error |p_ee(q) - p_ref(s)|, s at the step from the sample's start and its held sdd (the
-// plants integrate s exactly so). Cost: one forward kinematics per plant step (20 per sample),
+// plants integrate s exactly so). It also keeps the last kKeep steps' states: a measurement
+// delayed by a few plant steps is read from them (ContourLoop, Options::delay_steps). Cost: one forward kinematics per plant step (20 per sample),
 // outside the controller's timed phases.
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cmath>
 
 #include "arbor/dynamics/data.hpp"
@@ -27,6 +29,7 @@ struct StepPeaks {
 class StepMonitor {
  public:
   using Vq = VecN<double, nq>;
+  static constexpr int kKeep = 16;  ///< the states of the last kKeep plant steps are kept
 
   /// Before a sample: the reference, the plant's step length, s and sd at the sample's start and
   /// the sdd the plant holds over it.
@@ -42,6 +45,8 @@ class StepMonitor {
 
   /// After one plant step: the state it reached.
   void record(const Vq& q, const Vq& qd) {
+    recent_q_[std::size_t(step_ % kKeep)] = q;
+    recent_qd_[std::size_t(step_ % kKeep)] = qd;
     ++step_;
     peaks_.qd = peaks_.qd.cwiseMax(qd.cwiseAbs());
     peaks_.q = peaks_.q.cwiseMax(q.cwiseAbs());
@@ -58,6 +63,12 @@ class StepMonitor {
   const StepPeaks& peaks() const { return peaks_; }
   /// Plant steps since begin().
   int steps() const { return step_; }
+  /// q and qd `back` plant steps before the last one recorded (0: the last; back < kKeep and
+  /// back < steps()).
+  const Vq& q_before(int back) const { return recent_q_[std::size_t((step_ - 1 - back) % kKeep)]; }
+  const Vq& qd_before(int back) const {
+    return recent_qd_[std::size_t((step_ - 1 - back) % kKeep)];
+  }
 
   /// A hook that records into this monitor, then calls next (a plant's SubstepHook, e.g. the
   /// estimator's torque-rate observer): what ContourLoop passes to the plant.
@@ -77,6 +88,7 @@ class StepMonitor {
   int step_ = 0;
   StepPeaks peaks_;
   SubstepHook next_;
+  std::array<Vq, kKeep> recent_q_{}, recent_qd_{};
 };
 
 }  // namespace contour
