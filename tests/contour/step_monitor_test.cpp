@@ -45,8 +45,12 @@ void check_one_sample(P& plant, const VecN<double, nu>& u, Formulation form) {
   }
   EXPECT_EQ(monitor.peaks().qd, qd_max_plain);
   EXPECT_EQ(monitor.peaks().q, q_max_plain);
-  // the last step is the sample's end state
+  // the last step is the sample's end state; a delayed measurement reads the earlier steps
   EXPECT_EQ(rec.q.back(), Vq(plant.x.template head<nq>()));
+  for (int back = 0; back < StepMonitor::kKeep; ++back) {
+    EXPECT_EQ(monitor.q_before(back), rec.q[rec.q.size() - 1 - std::size_t(back)]);
+    EXPECT_EQ(monitor.qd_before(back), rec.qd[rec.qd.size() - 1 - std::size_t(back)]);
+  }
   // the tunnel error at the end, from the plant's own s and end effector: the peak bounds it
   const double e_end = (plant.ee_position() - p_ref(ref, plant.x[14])).norm();
   EXPECT_GE(monitor.peaks().e_p, e_end - 1e-12);
