@@ -101,14 +101,13 @@ if [ "${DEMO:-contour}" = disturbances ]; then
       ${args[$i]} "$@" >"$out/$n.txt" || status=$?
     grep -E "tunnel error max|max \|qd\||max \|tau\||final s|failures|after the" "$out/$n.txt"
     rows+=("$(awk -v sc="$n" '
-      /tunnel error max/ { for (i = 2; i <= NF; ++i) if ($i == "mm") { tun = $(i - 1); break }
-                           out = $(NF - 6) }
-      /max \|qd\|/ { qd = $4 }
-      /max \|tau\|/ { tau = $4 }
+      /^  tunnel error max/ { tun = $4; for (i = 5; i <= NF; ++i) if ($i == "samples") out = $(i - 1) }
+      /^  max \|qd\|/ { qd = $3 }
+      /^  max \|tau\|/ { tau = $3 }
       /final s/ { s = $3 }
       /controller failures/ { fail = $NF }
       /back inside rho after|never outside rho/ { ev = ev (ev ? "; " : "") $0 }
-      END { gsub(/^ +/, "", ev); printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", sc, tun,
+      END { gsub(/ +/, " ", ev); gsub(/^ /, "", ev); printf "| %s | %s | %s | %s | %s | %s | %s | %s |\n", sc, tun,
             out, qd, tau, s, fail, ev }' "$out/$n.txt")")
   done
   echo
