@@ -439,8 +439,14 @@ int main(int argc, char** argv) {
   if (o.delay_steps > 0)
     std::printf("measurement delay: %d plant steps\n", o.delay_steps);
   const auto st0 = loop.start();
-  std::printf("initial OCP: %s after %d SQP iterations\n", arbor::nmpc::to_string(st0),
-              loop.start_iterations());
+  {
+    const auto& in = loop.controller().info();
+    std::printf(
+        "initial OCP: %s after %d SQP iterations (stationarity %.2g, primal %.2g, "
+        "complementarity %.2g, last step %.2g)\n",
+        arbor::nmpc::to_string(st0), loop.start_iterations(), double(in.stationarity),
+        double(in.primal_residual), double(in.complementarity), double(in.step_norm));
+  }
 
   std::vector<Record> log;
   log.reserve(std::size_t(o.max_samples));
