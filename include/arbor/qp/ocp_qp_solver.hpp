@@ -90,6 +90,7 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
     const Problem* p = this->be_.p;
     if (p == nullptr)
       return this->conclude(QpStatus::not_setup);
+    this->be_.mark_all();  // new matrices: the last factor (and its gains) no longer holds
     const bool convex = convexity == Convexity::checked;
     const bool finite = finiteness == Finiteness::checked;
     for (int k = 0; k < N; ++k) {
@@ -227,6 +228,37 @@ class OcpQpSolver<OcpQp<Scalar, N, NX, NU, NG, NGN>, BackendT>
   }
   /// Multipliers of the terminal constraints lg_N <= C_N x_N <= ug_N.
   auto terminal_constraint_multiplier() const { return this->core_.lam_a.template tail<NGN>(); }
+
+  /// The local feedback gain of stage k, 0 <= k < N: gain = du_k / dx_k of the equality-constrained
+  /// QP of the last solve's final working set, with x_k held and the stages after it free (the
+  /// matrix of the Riccati recursion's u_k elimination: -(M_uu)^-1 M_ux, M_k = G_k + F_k' P_{k+1}
+  /// F_k). On that working set:
+  ///   - an input bound in it (u_k fixed, exact_bound) gives a zero row: that input stays on its
+  ///     bound for any small dx_k; the other rows are the gain of the free inputs alone;
+  ///   - a state bound of x_j, j >= 1, and a path or terminal row in it enter as the solver holds
+  ///     them, by the proximal weight w = h / reg_dual on their row (active_set.hpp): the gain is
+  ///     that of those constraints as stiff quadratic penalties, which tends to the gain with
+  ///     them as equalities as reg_dual -> 0 (relative error ~ the curvature / w: 1e-6 in double,
+  ///     1e-3 in float with the default settings), and every block carries delta = reg_primal;
+  ///   - with no constraint in it, the gain is the unconstrained LQR gain of the QP's stages.
+  /// The QP is linear in x_0, so for the real-time iteration's delta form the gain of stage 0 is
+  /// that of u_0 with respect to the measured x_0 while the working set holds.
+  /// Reuses the Riccati factor of the last solve: stage k >= 1 NU^2 NX / 2 multiply-adds, stage 0
+  /// with x_0 fixed (the NMPC's) NW NX^2 / 2 + NU NX^2 + NU^2 NX (6.1 k for NX = 16, NU = 8), plus
+  /// one pass over the working set; no heap. Returns false (gain not written) when there is no
+  /// factor of the returned iterate's working set: no solve since the last setup()/update(), a
+  /// failed factorization (non_convex), or a solve that returned an earlier iterate than its last
+  /// step's (stalled, or iteration_limit without last_iterate_at_cap, whose best iterate's
+  /// working set was not factorized). The matrices must still be those of the last solve
+  /// (the gain reads A_0, B_0, S_0 and the path rows through the problem's pointer); the iterate
+  /// may have moved by shift() (the gain stays that of the solved QP's stage k).
+  [[nodiscard]] bool feedback_gain(int k, Eigen::Matrix<Scalar, NU, NX>& gain) const {
+    ARBOR_ASSERT(k >= 0 && k < N, "stage index out of range");
+    if (!this->ready_ || !this->be_.holds(this->core_.ws.data()))
+      return false;
+    this->be_.feedback_gain(k, gain);
+    return true;
+  }
 
  private:
   /// set_state_bounds(): prepared may be null (then every prepared start is invalid afterwards).
