@@ -17,7 +17,8 @@
 // the closed loop: arbor's real-time iteration (prepare + feedback) against Crocoddyl's one
 // warm-started (Box)FDDP iteration from the shifted plan (Kleff et al., ICRA 2021), per sample
 // median / p99 / max, on the same plant (Pinocchio's ABA, semi-implicit Euler at 1 ms) and the
-// same target sequence. A run takes about a minute (`--quick`: a smoke run; `--N 16|30`).
+// same target sequence. A run takes about a minute (`--quick`: a smoke run; `--N 16|30`: one
+// horizon; `--cpu`: this thread's CPU time instead of wall time).
 #include <cstdlib>
 #include <cstring>
 #include <memory>
@@ -44,7 +45,7 @@
 namespace {
 using namespace reach;
 
-// ---- Crocoddyl: RK4 dynamics from IntegratedActionModelRK, the node cost from a CostModelSum ------
+// ---- Crocoddyl: RK4 dynamics from IntegratedActionModelRK, the node cost from a CostModelSum ----
 template <typename Scalar>
 struct NodeDataTpl;
 
@@ -383,13 +384,16 @@ int main(int argc, char** argv) {
   Options o;
   int only_n = 0;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick"))
+    if (!std::strcmp(argv[i], "--cpu"))
+      use_cpu_clock = true;
+    else if (!std::strcmp(argv[i], "--quick"))
       o.reps = 3, o.samples = 100, o.rounds = 1;
     else if (!std::strcmp(argv[i], "--N") && i + 1 < argc)
       only_n = std::atoi(argv[++i]);
   }
   const Task t = make_task(PEERS_KINOVA_URDF);
   check_models(t);
+  std::printf("times: %s\n", use_cpu_clock ? "this thread's CPU time (--cpu)" : "wall clock");
   if (only_n == 0 || only_n == 16)
     run<16>(t, o);
   if (only_n == 0 || only_n == 30)
