@@ -14,7 +14,8 @@
 // full solves from the same guess (x0 and the gravity torque on every node; dynamically feasible)
 // with each framework's cost by one independent evaluator and the largest trajectory difference,
 // the time per solve and per iteration (median over repetitions, the frameworks alternated), and
-// the closed loop: arbor's real-time iteration (prepare + feedback) against Crocoddyl's one
+// the closed loop: arbor's real-time iteration (prepare + feedback; exact and frozen RK4
+// sensitivities, and frozen with the feedback's QP capped at 2 iterations) against Crocoddyl's one
 // warm-started (Box)FDDP iteration from the shifted plan (Kleff et al., ICRA 2021), per sample
 // median / p99 / max, on the same plant (Pinocchio's ABA, semi-implicit Euler at 1 ms) and the
 // same target sequence. A run takes about a minute (`--quick`: a smoke run; `--N 16|30`: one
@@ -290,14 +291,18 @@ void run(const Task& t, const Options& o) {
 
   // -- closed loop: the target moves every 50 samples; each framework its own loop on the plant
   auto& afc = AF::controller();
-  std::vector<double> t_arbor, t_arbor_frozen, t_box, t_fddp;
-  double err_arbor = 0, err_frozen = 0, err_box = 0, err_fddp = 0;  // final distance per target
+  std::vector<double> t_arbor, t_arbor_frozen, t_bounded, t_box, t_fddp, t_prep, t_fb;
+  double err_arbor = 0, err_frozen = 0, err_bounded = 0, err_box = 0, err_fddp = 0;  // per target
   auto tip_error = [&](const Vx& x, const Eigen::Vector3d& p) {
     pinocchio::framesForwardKinematics(t.model, pd, Vq(x.head<n>()));
     return (pd.oMf[t.frame].translation() - p).norm();
   };
   int arbor_fail = 0;
-  auto arbor_loop = [&](auto& c, auto set_target, std::vector<double>& times, double& err) {
+  // bounded: the feedback's QP capped at 2 iterations (the contour demo's default); its
+  // preparation and feedback times are kept apart
+  auto arbor_loop = [&](auto& c, auto set_target, std::vector<double>& times, double& err,
+                        bool bounded = false) {
+    c.settings().feedback_qp_iterations = bounded ? 2 : 0;
     Vx x = x0;
     (void)c.set_initial_guess(x0, g0);
     set_target(c, t.targets[0]);
@@ -308,14 +313,18 @@ void run(const Task& t, const Options& o) {
       c.shift();
       const auto t0 = Clock::now();
       nmpc::NmpcStatus s1 = c.prepare();
+      const auto t1 = Clock::now();
       if (s1 == nmpc::NmpcStatus::prepared)
         s1 = c.feedback(x);
       times.push_back(us_since(t0));
+      if (bounded)
+        t_prep.push_back(t1 - t0), t_fb.push_back(us_since(t1));
       arbor_fail += !nmpc::succeeded(s1);
       x = plant_step(t, pd, x, c.control());
       if (s % 50 == 49)
         err = std::max(err, tip_error(x, p));
     }
+    c.settings().feedback_qp_iterations = 0;
   };
   auto croc_loop = [&](crocoddyl::SolverFDDP& solver, std::vector<double>& times, double& err) {
     Vx x = x0;
@@ -352,9 +361,10 @@ void run(const Task& t, const Options& o) {
     croc_loop(box, t_box, err_box);
     arbor_loop(afc, af_set, t_arbor_frozen, err_frozen);
     croc_loop(fddp, t_fddp, err_fddp);
+    arbor_loop(afc, af_set, t_bounded, err_bounded, true);
   }
   const Stats ra = stats(t_arbor), rf = stats(t_arbor_frozen), rb = stats(t_box),
-              rd = stats(t_fddp);
+              rd = stats(t_fddp), rg = stats(t_bounded), rp = stats(t_prep), rq = stats(t_fb);
   std::printf(
       "closed loop, %d x %d samples each (target moves every 50): time per sample, "
       "median / p99 / max [us], worst tip error at the end of a target's 1 s [mm]\n",
@@ -363,6 +373,10 @@ void run(const Task& t, const Options& o) {
               ra.median, ra.p99, ra.max, 1e3 * err_arbor);
   std::printf("  arbor RTI (prepare + feedback), frozen RK4 sens. %8.1f %8.1f %8.1f   %6.2f\n",
               rf.median, rf.p99, rf.max, 1e3 * err_frozen);
+  std::printf("  arbor RTI, frozen sens., feedback QP <= 2 iter.  %8.1f %8.1f %8.1f   %6.2f\n",
+              rg.median, rg.p99, rg.max, 1e3 * err_bounded);
+  std::printf("    of which prepare %8.1f %8.1f %8.1f, feedback %8.1f %8.1f %8.1f\n", rp.median,
+              rp.p99, rp.max, rq.median, rq.p99, rq.max);
   std::printf("  Crocoddyl BoxFDDP, 1 warm iteration              %8.1f %8.1f %8.1f   %6.2f\n",
               rb.median, rb.p99, rb.max, 1e3 * err_box);
   std::printf("  Crocoddyl FDDP, 1 warm iteration                 %8.1f %8.1f %8.1f   %6.2f\n",
@@ -375,6 +389,10 @@ void run(const Task& t, const Options& o) {
       "  ratio FDDP iteration / arbor RTI sample (exact): median %.1f, max %.1f; "
       "(frozen): median %.1f, max %.1f\n",
       rd.median / ra.median, rd.max / ra.max, rd.median / rf.median, rd.max / rf.max);
+  std::printf(
+      "  ratio BoxFDDP / FDDP iteration / arbor RTI sample (frozen, bounded): median %.1f / %.1f, "
+      "max %.1f / %.1f\n",
+      rb.median / rg.median, rd.median / rg.median, rb.max / rg.max, rd.max / rg.max);
   std::printf("  arbor samples not succeeded: %d\n", arbor_fail);
 }
 
