@@ -2,9 +2,9 @@
 // (zero-skipping) products and the per-body sparse actions, each against its 6x6 matrix form.
 #include <gtest/gtest.h>
 
+#include <arbor/spatial/body_ops.hpp>
 #include <arbor/spatial/constant.hpp>
 #include <arbor/spatial/inertia.hpp>
-#include <arbor/spatial/body_ops.hpp>
 #include <arbor/spatial/motion.hpp>
 #include <arbor/spatial/se3.hpp>
 #include <random>
@@ -219,6 +219,62 @@ void check_body() {
   // constant body inertia
   const Force<double> h = B::inertia_times(m);
   EXPECT_LE((h.vector() - B::inertia().matrix() * m.vector()).norm(), 1e-13);
+  // the same actions on a block of L columns (the coordinate rows of a row-major 6 x L block),
+  // each column against the dense forms
+  {
+    constexpr int L = 5;
+    using Blk = Eigen::Matrix<double, 6, L, Eigen::RowMajor>;
+    using Row = Eigen::Matrix<double, 1, L>;
+    const Blk P = Blk::Random();   // motion columns [v; w], parent frame
+    const Blk Fc = Blk::Random();  // force columns [f; n], body frame
+    const Blk Q0 = Blk::Random();
+    Blk Q = Q0;  // the forces carried to the parent are added to these
+    const Row xr = Row::Random();
+    Row v[3], w[3], st;
+    {
+      NoAllocScope guard;
+      B::motion_to_child(js, rows_of<0>(P), rows_of<3>(P), v, w);
+      B::add_S(v, w, xr);
+      B::template force_to_parent<true>(js, rows_of<0>(Fc), rows_of<3>(Fc), rows_of<0>(Q),
+                                        rows_of<3>(Q));
+      st = B::ST(rows_of<0>(Fc), rows_of<3>(Fc));
+    }
+    for (int c = 0; c < L; ++c) {
+      V6 mc6;
+      for (int j = 0; j < 3; ++j) {
+        mc6[j] = v[j][c];
+        mc6[3 + j] = w[j][c];
+      }
+      const V6 m_ref = X.actInv(Motion<double>::from(P.col(c))).vector() + S * xr[c];
+      EXPECT_LE((mc6 - m_ref).norm(), 1e-13) << "body " << i << " column " << c;
+      const V6 f_ref = Q0.col(c) + X.act(Force<double>::from(Fc.col(c))).vector();
+      EXPECT_LE((Q.col(c) - f_ref).norm(), 1e-13) << "body " << i << " column " << c;
+      EXPECT_NEAR(st[c], S.dot(Fc.col(c)), 1e-14) << "body " << i << " column " << c;
+    }
+  }
+  // articulated products with known zeros, and the projection added to a parent's inertia
+  {
+    const ArticulatedInertia<double> Ya = ArticulatedInertia<double>::from(A6);
+    const Motion<double> c = B::cross_S(m, x);  // zero outside B::cross_S_nz
+    const Force<double> Yc = art_times<B::cross_S_nz>(Ya, c);
+    EXPECT_LE((Yc.vector() - A6 * c.vector()).norm(), 1e-13) << "body " << i;
+    EXPECT_NEAR(dot_masked<B::cross_S_nz>(f, c), f.vector().dot(c.vector()), 1e-14);
+    Force<double> U;
+    B::art_S(Ya, U);
+    const double Dinv = 1.0 / B::ST(U);
+    const V6 U6 = A6 * S;
+    const M6 Pr = Xinv.transpose() * (A6 - U6 * U6.transpose() * Dinv) * Xinv;
+    M6 Y0 = M6::Random();
+    Y0 = (Y0 + Y0.transpose()).eval();
+    ArticulatedInertia<double> Yp = ArticulatedInertia<double>::from(Y0);
+    B::add_art_projection(js, Ya, U, Dinv, Yp);
+    EXPECT_LE((Yp.matrix() - (Y0 + Pr)).norm(), 1e-11) << "body " << i;
+    if constexpr (B::parent >= 0) {
+      using BP = BodyOps<R, B::parent, double>;
+      B::template add_art_projection<BP>(js, Ya, U, Dinv, Yp);
+      EXPECT_LE((Yp.matrix() - (BP::art_inertia().matrix() + Pr)).norm(), 1e-11) << "body " << i;
+    }
+  }
 }
 
 template <class R>

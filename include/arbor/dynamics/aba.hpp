@@ -2,15 +2,26 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
-#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/payload.hpp"
 #include "arbor/dynamics/rnea.hpp"
+#include "arbor/spatial/sx.hpp"
 
 namespace arbor {
 
 namespace detail {
+
+/// The child of body p that comes last in the tree's numbering (the first one the backward
+/// passes visit), -1 for a leaf.
+template <class R>
+constexpr int last_child(int p) {
+  int c = -1;
+  for (int j = 0; j < R::nb; ++j)
+    if (R::parent[j] == p)
+      c = j;
+  return c;
+}
 
 /// Body i's step of the leaves-to-root articulated-inertia passes (aba's pass 2, minverse's
 /// backward pass) starts here: Yaba[i] complete (a leaf's own inertia, else its children have
@@ -19,15 +30,14 @@ namespace detail {
 template <class R, int i, bool WithPayload, class Scalar>
 ARBOR_INLINE Scalar art_body_start(Data<R, Scalar>& d) {
   using B = spatial::BodyOps<R, i, Scalar>;
-  using X = sx::Body<B, Scalar>;
-  if constexpr (sx::last_child<R>(i) < 0)
+  if constexpr (last_child<R>(i) < 0)
     d.Yaba[i] = B::art_inertia();  // a leaf (else set by its last child)
   if constexpr (WithPayload) {
     if (i == d.payload.body)
       add_payload_art(d.Yaba[i], d.payload.Y);
   }
-  X::art_S(d.Yaba[i], d.U[i]);
-  const Scalar Dinv = Scalar(1) / X::ST(d.U[i]);
+  B::art_S(d.Yaba[i], d.U[i]);
+  const Scalar Dinv = Scalar(1) / B::ST(d.U[i]);
   d.Dinv[i] = Dinv;
   return Dinv;
 }
@@ -40,23 +50,22 @@ ARBOR_INLINE void aba_pass2(Data<R, Scalar>& d, const Eigen::MatrixBase<T>& tau)
   static_for_reverse_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
     const Scalar Dinv = art_body_start<R, i, WithPayload>(d);
-    const Scalar ui = Scalar(tau[i]) - X::ST(d.pA[i]);
+    const Scalar ui = Scalar(tau[i]) - B::ST(d.pA[i]);
     d.u[i] = ui;
     if constexpr (B::parent >= 0) {
       // pa = pA + Ya c + U Dinv u with Ya = Y - U Dinv U^T: Ya c = Y c - U Dinv (U . c)
       const Motion<Scalar>& c = d.a[i];
-      Force<Scalar> pa = X::template art_times<X::c_nz>(d.Yaba[i], c);
-      const Scalar g = Dinv * (ui - X::template dot_masked<X::c_nz>(d.U[i], c));
+      Force<Scalar> pa = spatial::art_times<B::cross_S_nz>(d.Yaba[i], c);
+      const Scalar g = Dinv * (ui - spatial::dot_masked<B::cross_S_nz>(d.U[i], c));
       for (int r = 0; r < 3; ++r) {
         pa.f[r] += d.pA[i].f[r] + d.U[i].f[r] * g;
         pa.n[r] += d.pA[i].n[r] + d.U[i].n[r] * g;
       }
       using BP = spatial::BodyOps<R, B::parent, Scalar>;
-      using Init = std::conditional_t<sx::last_child<R>(B::parent) == i, BP, void>;
-      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[B::parent]);
-      X::add_to_parent(d.joint[i], pa, d.pA[B::parent]);
+      using Init = std::conditional_t<last_child<R>(B::parent) == i, BP, void>;
+      B::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[B::parent]);
+      B::add_force_to_parent(d.joint[i], pa, d.pA[B::parent]);
     }
   });
 }
@@ -86,7 +95,6 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
     const JointState<Scalar>& js = d.joint[i];
     const Scalar vi = Scalar(v[i]);
     Motion<Scalar> vel;
@@ -94,17 +102,17 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
       vel = B::S_times(vi);
       d.a[i] = Motion<Scalar>::Zero();  // v_parent = 0, so c = v x S v = 0
     } else {
-      vel = X::to_child(js, d.v[B::parent]);
-      X::add_S(vel, vi);
+      vel = B::motion_to_child(js, d.v[B::parent]);
+      B::add_S(vel, vi);
       Motion<Scalar> c = Motion<Scalar>::Zero();
-      X::add_cross_S(c, vel, vi);
+      B::add_cross_S(c, vel, vi);
       d.a[i] = c;
     }
     d.v[i] = vel;
     if constexpr (B::massless)
       d.pA[i] = Force<Scalar>::Zero();
     else
-      d.pA[i] = sx::fcross(vel, X::inertia_times(vel));
+      d.pA[i] = sx::fcross(vel, B::inertia_times(vel));
     if (fext)  // a run-time test: if constexpr here costs 1-4 % more (GCC 12 inlining)
       d.pA[i] -= (*fext)[i];
   });
@@ -122,27 +130,26 @@ ARBOR_INLINE void aba_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
     Motion<Scalar> ai;
     Scalar ddq;
     if constexpr (B::parent < 0) {
-      ai.v = X::linear_to_child(d.joint[i], -g);
+      ai.v = B::linear_to_child(d.joint[i], -g);
       ai.w.setZero();
-      ddq = d.Dinv[i] * (d.u[i] - X::template dot_masked<0x7u>(d.U[i], ai));
+      ddq = d.Dinv[i] * (d.u[i] - spatial::dot_masked<0x7u>(d.U[i], ai));
     } else {
-      ai = X::to_child(d.joint[i], d.a[B::parent]);
+      ai = B::motion_to_child(d.joint[i], d.a[B::parent]);
       const Motion<Scalar>& c = d.a[i];
       static_for<3>([&](auto J) {
         constexpr int j = decltype(J)::value;
-        if constexpr ((X::c_nz >> j) & 1u)
+        if constexpr ((B::cross_S_nz >> j) & 1u)
           ai.v[j] += c.v[j];
-        if constexpr ((X::c_nz >> (3 + j)) & 1u)
+        if constexpr ((B::cross_S_nz >> (3 + j)) & 1u)
           ai.w[j] += c.w[j];
       });
       ddq = d.Dinv[i] * (d.u[i] - sx::dot(d.U[i], ai));
     }
     d.ddq[i] = ddq;
-    X::add_S(ai, ddq);
+    B::add_S(ai, ddq);
     d.a[i] = ai;
   });
 }

@@ -126,16 +126,13 @@ ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q)
       return;
     }
     using Row = Eigen::Matrix<Scalar, 1, L>;
-    using Tri = typename B::template Tri<Row>;
     auto blk = d.Fminv[i].template middleCols<L>(i);
     const Force<Scalar> F = detail::inertia_S<B>(d.Ycrb[i]);
     for (int j = 0; j < 3; ++j) {
       blk(j, 0) = F.f[j];
       blk(3 + j, 0) = F.n[j];
     }
-    Tri f{blk.row(0), blk.row(1), blk.row(2)};
-    Tri t{blk.row(3), blk.row(4), blk.row(5)};
-    const Row mrow = B::ST_t(f, t);
+    const Row mrow = B::ST(spatial::rows_of<0>(blk), spatial::rows_of<3>(blk));
     d.M.row(i).template segment<L>(i) = mrow;
     d.M.col(i).template segment<L>(i) = mrow.transpose();
     if constexpr (i + L < n) {
@@ -143,12 +140,10 @@ ARBOR_INLINE void crba_blocks(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q)
       d.M.col(i).template tail<n - i - L>().setZero();
     }
     if constexpr (B::parent >= 0) {
-      B::force_to_parent_t(d.joint[i], f, t);
       auto pb = d.Fminv[B::parent].template middleCols<L>(i);
-      for (int j = 0; j < 3; ++j) {
-        pb.row(j) += f[j];
-        pb.row(3 + j) += t[j];
-      }
+      B::template force_to_parent<true>(d.joint[i], spatial::rows_of<0>(blk),
+                                        spatial::rows_of<3>(blk), spatial::rows_of<0>(pb),
+                                        spatial::rows_of<3>(pb));
       d.Ycrb[B::parent] += B::inertia_to_parent(d.joint[i], d.Ycrb[i]);
     }
   });

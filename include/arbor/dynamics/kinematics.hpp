@@ -4,7 +4,6 @@
 
 #include "arbor/core/sincos_batch.hpp"
 #include "arbor/core/static_for.hpp"
-#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/spatial/body_ops.hpp"
 #include "arbor/spatial/constant.hpp"
@@ -100,9 +99,9 @@ ARBOR_INLINE void body_placement(Data<R, Scalar>& d) {
     Scalar A[3][3];
     for (int r = 0; r < 3; ++r) {
       const Scalar x0 = op.R(r, 0), x1 = op.R(r, 1), x2 = op.R(r, 2);
-      A[r][0] = sx::krow<Scalar, KRT, 0>(x0, x1, x2);
-      A[r][1] = sx::krow<Scalar, KRT, 1>(x0, x1, x2);
-      A[r][2] = sx::krow<Scalar, KRT, 2>(x0, x1, x2);
+      A[r][0] = spatial::cst::krow<Scalar, KRT, 0>(x0, x1, x2);
+      A[r][1] = spatial::cst::krow<Scalar, KRT, 1>(x0, x1, x2);
+      A[r][2] = spatial::cst::krow<Scalar, KRT, 2>(x0, x1, x2);
       Scalar p = op.p[r];
       if constexpr (!B::p_zero) {
         namespace c = spatial::cst;
@@ -179,7 +178,8 @@ void forward_kinematics(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
     } else {
       d.v[i] = B::motion_to_child(d.joint[i], d.v[B::parent]);
       B::add_S(d.v[i], vi);
-      d.a[i] = B::motion_to_child(d.joint[i], d.a[B::parent]) + B::cross_S(d.v[i], vi);
+      d.a[i] = B::motion_to_child(d.joint[i], d.a[B::parent]);
+      B::add_cross_S(d.a[i], d.v[i], vi);
       B::add_S(d.a[i], Scalar(a[i]));
     }
   });

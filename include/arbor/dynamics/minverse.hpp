@@ -7,7 +7,6 @@
 
 #include "arbor/core/static_for.hpp"
 #include "arbor/dynamics/aba.hpp"
-#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/model/topology.hpp"
@@ -28,25 +27,25 @@ ARBOR_INLINE void minverse_backward(Data<R, Scalar>& d) {
     using B = spatial::BodyOps<R, i, Scalar>;
     constexpr int L = model::subtree_last<R>(i) - i + 1;
     using Row = Eigen::Matrix<Scalar, 1, L>;
-    using X = detail::sx::Body<B, Scalar>;
     const Scalar Dinv = art_body_start<R, i, WithPayload>(d);
     auto blk = d.Fminv[i].template middleCols<L>(i);
-    Row mrow = X::ST_rows(blk) * Scalar(-Dinv);
+    Row mrow = B::ST(spatial::rows_of<0>(blk), spatial::rows_of<3>(blk)) * Scalar(-Dinv);
     mrow[0] = Dinv;  // column i: the unit torque at i itself (no bias force from below)
     d.Minv.row(i).template segment<L>(i) = mrow;
     if constexpr (i + L < n)
       d.Minv.row(i).template tail<n - i - L>().setZero();
     if constexpr (B::parent >= 0) {
       constexpr int p = B::parent;
-      using Init = std::conditional_t<detail::sx::last_child<R>(p) == i,
-                                      spatial::BodyOps<R, p, Scalar>, void>;
-      X::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[p]);
+      using Init = std::conditional_t<last_child<R>(p) == i, spatial::BodyOps<R, p, Scalar>, void>;
+      B::template add_art_projection<Init>(d.joint[i], d.Yaba[i], d.U[i], Dinv, d.Yaba[p]);
       Row f[3], t[3];
       for (int j = 0; j < 3; ++j) {
         f[j] = blk.row(j) + mrow * d.U[i].f[j];
         t[j] = blk.row(3 + j) + mrow * d.U[i].n[j];
       }
-      X::add_rows_to_parent(d.joint[i], f, t, d.Fminv[p].template middleCols<L>(i));
+      auto pb = d.Fminv[p].template middleCols<L>(i);
+      B::template force_to_parent<true>(d.joint[i], f, t, spatial::rows_of<0>(pb),
+                                        spatial::rows_of<3>(pb));
     }
   });
 }
@@ -83,13 +82,13 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
   static_for_flat<R::nb, flat>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = detail::sx::Body<B, Scalar>;
     constexpr int L = n - i;
     using Row = Eigen::Matrix<Scalar, 1, L>;
     Row mrow = d.Minv.row(i).template tail<L>();
     Row v[3], w[3];
     if constexpr (B::parent >= 0) {
-      X::rows_to_child(d.joint[i], d.Fminv[B::parent].template middleCols<L>(i), v, w);
+      const auto pb = d.Fminv[B::parent].template middleCols<L>(i);
+      B::motion_to_child(d.joint[i], spatial::rows_of<0>(pb), spatial::rows_of<3>(pb), v, w);
       Row ua = v[0] * d.U[i].f[0];
       for (int j = 1; j < 3; ++j)
         ua += v[j] * d.U[i].f[j];
@@ -102,7 +101,7 @@ const typename Data<R, Scalar>::Matrix& minverse(Data<R, Scalar>& d,
         w[j].setZero();
       }
     }
-    X::add_S_rows(v, w, mrow);
+    B::add_S(v, w, mrow);
     d.Minv.row(i).template tail<L>() = mrow;
     auto blk = d.Fminv[i].template middleCols<L>(i);
     for (int j = 0; j < 3; ++j) {

@@ -2,10 +2,10 @@
 #pragma once
 
 #include "arbor/core/static_for.hpp"
-#include "arbor/dynamics/body_sx.hpp"
 #include "arbor/dynamics/data.hpp"
 #include "arbor/dynamics/kinematics.hpp"
 #include "arbor/dynamics/payload.hpp"
+#include "arbor/spatial/sx.hpp"
 
 namespace arbor {
 
@@ -39,29 +39,28 @@ ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
     const JointState<Scalar>& js = d.joint[i];
     Motion<Scalar> vi, ai;
     if constexpr (B::parent < 0) {
       if constexpr (HasV)
         vi = B::S_times(Scalar(v[i]));
-      ai.v = X::linear_to_child(js, -g);
+      ai.v = B::linear_to_child(js, -g);
       ai.w.setZero();
     } else {
       if constexpr (HasV) {
-        vi = X::to_child(js, d.v[B::parent]);
-        X::add_S(vi, Scalar(v[i]));
+        vi = B::motion_to_child(js, d.v[B::parent]);
+        B::add_S(vi, Scalar(v[i]));
       }
-      ai = X::to_child(js, d.a[B::parent]);
+      ai = B::motion_to_child(js, d.a[B::parent]);
     }
     if constexpr (HasV)
-      X::add_cross_S(ai, vi, Scalar(v[i]));
+      B::add_cross_S(ai, vi, Scalar(v[i]));
     if constexpr (HasA)
-      X::add_S(ai, Scalar(a[i]));
-    Force<Scalar> fi = X::inertia_times(ai);
+      B::add_S(ai, Scalar(a[i]));
+    Force<Scalar> fi = B::inertia_times(ai);
     if constexpr (HasV) {
       if constexpr (!B::massless)
-        sx::add_to(fi, sx::fcross(vi, X::inertia_times(vi)));
+        sx::add_to(fi, sx::fcross(vi, B::inertia_times(vi)));
       d.v[i] = vi;
     }
     if constexpr (HasFext)
@@ -76,10 +75,9 @@ ARBOR_INLINE void rnea_impl(Data<R, Scalar>& d, const Eigen::MatrixBase<Q>& q,
   static_for_reverse<R::nb>([&](auto I) {
     constexpr int i = decltype(I)::value;
     using B = spatial::BodyOps<R, i, Scalar>;
-    using X = sx::Body<B, Scalar>;
-    d.tau[i] = X::ST(d.f[i]);
+    d.tau[i] = B::ST(d.f[i]);
     if constexpr (B::parent >= 0)
-      X::add_to_parent(d.joint[i], d.f[i], d.f[B::parent]);
+      B::add_force_to_parent(d.joint[i], d.f[i], d.f[B::parent]);
   });
 }
 

@@ -56,21 +56,26 @@ struct BodyInertia : BodyPlacement<R, i, Scalar> {
   struct IoK {
     static constexpr double at(int r, int c) { return Y.Io[r][c]; }
   };
-  static constexpr bool h_zero = cst::is_zero_vec<HV>();
 
   // ---- body inertia (constant) -----------------------------------------------------------------
-  /// I_i * m with the constant body inertia (zero com and zero inertia entries skipped).
+  /// The constant body inertia times a motion x: [m v - h x w; Io w + h x v], each coordinate one
+  /// chain of multiply-adds over the nonzero constant entries (zero com and inertia entries
+  /// skipped).
   ARBOR_INLINE static Force<Scalar> inertia_times(const Motion<Scalar>& x) {
     if constexpr (massless) {
       return Force<Scalar>::Zero();
     } else {
-      Vec3<Scalar> f = x.v * Scalar(Y.m);
-      Vec3<Scalar> n = cst::mul<Scalar, IoK>(x.w);
-      if constexpr (!h_zero) {
-        f -= cst::cross<Scalar, HV>(x.w);
-        n += cst::cross<Scalar, HV>(x.v);
-      }
-      return {f, n};
+      using Kh = cst::Skew<HV>;
+      const Scalar m = Scalar(Y.m);
+      const Scalar v0 = x.v[0], v1 = x.v[1], v2 = x.v[2], w0 = x.w[0], w1 = x.w[1], w2 = x.w[2];
+      Force<Scalar> F;
+      F.f[0] = cst::add_krow<Scalar, Kh, 0, -1>(Scalar(v0 * m), w0, w1, w2);
+      F.f[1] = cst::add_krow<Scalar, Kh, 1, -1>(Scalar(v1 * m), w0, w1, w2);
+      F.f[2] = cst::add_krow<Scalar, Kh, 2, -1>(Scalar(v2 * m), w0, w1, w2);
+      F.n[0] = cst::add_krow<Scalar, Kh, 0, 1>(cst::krow<Scalar, IoK, 0>(w0, w1, w2), v0, v1, v2);
+      F.n[1] = cst::add_krow<Scalar, Kh, 1, 1>(cst::krow<Scalar, IoK, 1>(w0, w1, w2), v0, v1, v2);
+      F.n[2] = cst::add_krow<Scalar, Kh, 2, 1>(cst::krow<Scalar, IoK, 2>(w0, w1, w2), v0, v1, v2);
+      return F;
     }
   }
   /// The constant body inertia as a runtime Inertia<S>.

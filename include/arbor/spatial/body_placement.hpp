@@ -1,7 +1,10 @@
 // arbor: the placement of body i in its parent, liMi = Pl * J(q), applied in two steps: the
 // constant step skips structurally zero entries of Pl (cst:: products, decided at compile time)
 // and the joint step (JointMotion) touches only what the joint moves. Motions go to the child,
-// forces to the parent, as the recursions need them.
+// forces to the parent, as the recursions need them, each written once on coordinate triples
+// (spatial/coords.hpp: one 3-vector, or the rows of a block of columns). Cost per 3-vector for a
+// revolute joint about a coordinate axis: the joint's 4 multiplications and 2 additions, one
+// multiply-add per entry of Pl other than 0 and +-1 (an addition for +-1).
 #pragma once
 
 #include "arbor/spatial/joint_motion.hpp"
@@ -14,11 +17,9 @@ template <class R, int i, class Scalar>
 struct BodyPlacement : JointMotion<R, i, Scalar> {
   using Joint = JointMotion<R, i, Scalar>;
   using Joint::aligned;
-  using Joint::dcross;
   using Joint::ia;
   using Joint::ib;
   using Joint::jrot;
-  using Joint::jrotT;
   using Joint::jtrans;
   using Joint::k;
   using Joint::revolute;
@@ -31,6 +32,7 @@ struct BodyPlacement : JointMotion<R, i, Scalar> {
   using KR = cst::Rot<P>;
   using KRT = cst::Transpose<KR>;
   using Vp = cst::Trans<P>;
+  using Kp = cst::Skew<Vp>;  ///< [p] of the joint placement
   static constexpr bool rot_identity = cst::is_identity<KR>();
   static constexpr bool p_zero = cst::is_zero_vec<Vp>();
 
@@ -58,47 +60,94 @@ struct BodyPlacement : JointMotion<R, i, Scalar> {
   ARBOR_INLINE static Vec3<Scalar> R_(const Eigen::MatrixBase<D>& x) {
     return cst::mul<Scalar, KR>(x);
   }
-  template <class D>
-  ARBOR_INLINE static Vec3<Scalar> RT_(const Eigen::MatrixBase<D>& x) {
-    return cst::mul<Scalar, KRT>(x);
-  }
 
-  // ---- actions of liMi = Pl * J ----------------------------------------------------------------
-  /// Motion in the parent frame -> the same motion in body i's frame (liMi^-1 action).
+  // ---- actions of liMi = Pl * J, on triples (spatial/coords.hpp) -----------------------------
+  // Each output coordinate is one chain of multiply-adds over the constant entries of Pl
+  // (cst::krow / add_krow skip zeros and +-1) and the joint's 2 x 2 mix (JointMotion::jrot_into).
+  // The outputs must not alias the inputs.
+
+  /// Motion (v, w) in the parent frame -> the same motion (vo, wo) in body i's frame (liMi^-1
+  /// action): wo = Rj^T R^T w, vo = Rj^T R^T (v - p x w) (- d x wo for a prismatic joint).
+  template <class X, class W, class Yv, class Yw>
+  ARBOR_INLINE static void motion_to_child(const JointState<Scalar>& js, const X& v, const W& w,
+                                           Yv&& vo, Yw&& wo) {
+    using T = Coord<X>;
+    const T w0 = w[0], w1 = w[1], w2 = w[2];
+    T t0 = v[0], t1 = v[1], t2 = v[2];
+    if constexpr (!p_zero) {  // t = v - p x w
+      t0 = cst::add_krow<Scalar, Kp, 0, -1>(t0, w0, w1, w2);
+      t1 = cst::add_krow<Scalar, Kp, 1, -1>(t1, w0, w1, w2);
+      t2 = cst::add_krow<Scalar, Kp, 2, -1>(t2, w0, w1, w2);
+    }
+    Joint::template jrot_into<true>(js, cst::krow<Scalar, KRT, 0>(w0, w1, w2),
+                                    cst::krow<Scalar, KRT, 1>(w0, w1, w2),
+                                    cst::krow<Scalar, KRT, 2>(w0, w1, w2), wo);
+    Joint::template jrot_into<true>(js, cst::krow<Scalar, KRT, 0>(t0, t1, t2),
+                                    cst::krow<Scalar, KRT, 1>(t0, t1, t2),
+                                    cst::krow<Scalar, KRT, 2>(t0, t1, t2), vo);
+    if constexpr (!revolute)
+      Joint::template add_dcross<-1>(js, wo, vo);
+  }
   ARBOR_INLINE static Motion<Scalar> motion_to_child(const JointState<Scalar>& js,
                                                      const Motion<Scalar>& m) {
-    Vec3<Scalar> t = m.v;
-    if constexpr (!p_zero)
-      t -= cst::cross<Scalar, Vp>(m.w);
-    const Vec3<Scalar> w1 = RT_(m.w);
-    const Vec3<Scalar> v1 = RT_(t);
-    if constexpr (revolute) {
-      return {jrotT(js, v1), jrotT(js, w1)};
-    } else {
-      return {v1 - dcross(js, w1), w1};
-    }
+    Motion<Scalar> out;
+    motion_to_child(js, m.v, m.w, out.v, out.w);
+    return out;
   }
-  /// Pure linear motion (w = 0) in the parent frame -> linear part in body i's frame.
+  /// Pure linear motion v (w = 0) in the parent frame -> its linear part vo in body i's frame.
+  template <class X, class Y>
+  ARBOR_INLINE static void linear_to_child(const JointState<Scalar>& js, const X& v, Y&& vo) {
+    using T = Coord<X>;
+    const T v0 = v[0], v1 = v[1], v2 = v[2];
+    Joint::template jrot_into<true>(js, cst::krow<Scalar, KRT, 0>(v0, v1, v2),
+                                    cst::krow<Scalar, KRT, 1>(v0, v1, v2),
+                                    cst::krow<Scalar, KRT, 2>(v0, v1, v2), vo);
+  }
+  template <class D>
   ARBOR_INLINE static Vec3<Scalar> linear_to_child(const JointState<Scalar>& js,
-                                                   const Vec3<Scalar>& v) {
-    return jrotT(js, RT_(v));
+                                                   const Eigen::MatrixBase<D>& v) {
+    Vec3<Scalar> out;
+    linear_to_child(js, v.derived(), out);
+    return out;
   }
-  /// Force in body i's frame -> the same force in the parent frame (liMi action).
+  /// Force (f, n) in body i's frame -> the same force in the parent frame (liMi action), written
+  /// to (fo, no) (Accumulate: added to them): fo = R Rj f, no = R Rj n (+ R d x f for a prismatic
+  /// joint) + p x fo.
+  template <bool Accumulate, class F, class N, class Yf, class Yn>
+  ARBOR_INLINE static void force_to_parent(const JointState<Scalar>& js, const F& f, const N& n,
+                                           Yf&& fo, Yn&& no) {
+    using T = Coord<F>;
+    T f1[3], n1[3];
+    Joint::template jrot_into<false>(js, T(f[0]), T(f[1]), T(f[2]), f1);
+    Joint::template jrot_into<false>(js, T(n[0]), T(n[1]), T(n[2]), n1);
+    if constexpr (!revolute)  // n + d x f
+      Joint::template add_dcross<1>(js, f, n1);
+    const T f2[3] = {cst::krow<Scalar, KR, 0>(f1[0], f1[1], f1[2]),
+                     cst::krow<Scalar, KR, 1>(f1[0], f1[1], f1[2]),
+                     cst::krow<Scalar, KR, 2>(f1[0], f1[1], f1[2])};
+    for (int r = 0; r < 3; ++r)
+      put<Accumulate>(fo[r], f2[r]);
+    T n2[3] = {cst::krow<Scalar, KR, 0>(n1[0], n1[1], n1[2]),
+               cst::krow<Scalar, KR, 1>(n1[0], n1[1], n1[2]),
+               cst::krow<Scalar, KR, 2>(n1[0], n1[1], n1[2])};
+    if constexpr (!p_zero) {  // + p x fo
+      n2[0] = cst::add_krow<Scalar, Kp, 0, 1>(n2[0], f2[0], f2[1], f2[2]);
+      n2[1] = cst::add_krow<Scalar, Kp, 1, 1>(n2[1], f2[0], f2[1], f2[2]);
+      n2[2] = cst::add_krow<Scalar, Kp, 2, 1>(n2[2], f2[0], f2[1], f2[2]);
+    }
+    for (int r = 0; r < 3; ++r)
+      put<Accumulate>(no[r], n2[r]);
+  }
   ARBOR_INLINE static Force<Scalar> force_to_parent(const JointState<Scalar>& js,
                                                     const Force<Scalar>& f) {
-    Vec3<Scalar> f1, n1;
-    if constexpr (revolute) {
-      f1 = jrot(js, f.f);
-      n1 = jrot(js, f.n);
-    } else {
-      f1 = f.f;
-      n1 = f.n + dcross(js, f.f);
-    }
-    const Vec3<Scalar> f2 = R_(f1);
-    Vec3<Scalar> n2 = R_(n1);
-    if constexpr (!p_zero)
-      n2 += cst::cross<Scalar, Vp>(f2);
-    return {f2, n2};
+    Force<Scalar> out;
+    force_to_parent<false>(js, f.f, f.n, out.f, out.n);
+    return out;
+  }
+  /// fp += the force f of body i carried to the parent frame.
+  ARBOR_INLINE static void add_force_to_parent(const JointState<Scalar>& js, const Force<Scalar>& f,
+                                               Force<Scalar>& fp) {
+    force_to_parent<true>(js, f.f, f.n, fp.f, fp.n);
   }
 
   /// R M R^T for the constant rotation of Pl.

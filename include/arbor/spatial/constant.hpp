@@ -12,6 +12,7 @@
 // add_scaled decide what one term costs (for both), dot3 sums three terms and dot_n any number.
 #pragma once
 
+#include <type_traits>
 #include <utility>
 
 #include "arbor/core/config.hpp"
@@ -104,6 +105,38 @@ ARBOR_INLINE T dot3(const T& x0, const T& x1, const T& x2, Z zero) {
   } else {
     return zero();
   }
+}
+
+/// The zero of a coordinate type: a scalar zero, or a zero Eigen row vector (blocks of columns).
+template <class T>
+ARBOR_INLINE T zero_of() {
+  if constexpr (std::is_base_of_v<Eigen::EigenBase<T>, T>)
+    return T(T::Zero());
+  else
+    return T(0);
+}
+
+/// (row r of K) . (x0, x1, x2) for values of one coordinate type T (scalars or row vectors).
+template <class S, class K, int r, class T>
+ARBOR_INLINE T krow(const T& x0, const T& x1, const T& x2) {
+  return dot3<S, Entry<K, r, 0>, Entry<K, r, 1>, Entry<K, r, 2>>(x0, x1, x2,
+                                                                 [] { return zero_of<T>(); });
+}
+
+/// acc + (row r of K) . (x0, x1, x2) (Sign > 0) or acc - it (Sign < 0), term by term (zeros
+/// skipped, +-1 as additions): no row sum is formed first.
+template <class S, class K, int r, int Sign, class T>
+ARBOR_INLINE T add_krow(T acc, const T& x0, const T& x1, const T& x2) {
+  if constexpr (Sign > 0) {
+    add_scaled<S, Entry<K, r, 0>>(acc, x0);
+    add_scaled<S, Entry<K, r, 1>>(acc, x1);
+    add_scaled<S, Entry<K, r, 2>>(acc, x2);
+  } else {
+    add_scaled<S, Neg<Entry<K, r, 0>>>(acc, x0);
+    add_scaled<S, Neg<Entry<K, r, 1>>>(acc, x1);
+    add_scaled<S, Neg<Entry<K, r, 2>>>(acc, x2);
+  }
+  return acc;
 }
 
 /// True when every entry of the constant matrix K is zero.

@@ -1,7 +1,9 @@
 // arbor: the joint of body i of a robot as compile-time facts and sparse operations: its state
 // from q, the joint rotation Rj (or translation) applied to vectors and matrices, and the motion
-// subspace S (S x, S^T f, m x S x). For a joint about a coordinate axis a rotation touches only
-// the two coordinates it mixes and S selects one coordinate; unaligned axes use Rodrigues' form.
+// subspace S (S x, S^T f, m x S x), the vector actions on coordinate triples (spatial/coords.hpp:
+// one 3-vector, or the rows of a block of columns). For a joint about a coordinate axis a
+// rotation touches only the two coordinates it mixes (4 multiplications, 2 additions) and S
+// selects one coordinate (no arithmetic); unaligned axes use Rodrigues' form.
 #pragma once
 
 #include "arbor/core/config.hpp"
@@ -9,6 +11,7 @@
 #include "arbor/core/static_for.hpp"
 #include "arbor/model/joint.hpp"
 #include "arbor/spatial/constant.hpp"
+#include "arbor/spatial/coords.hpp"
 #include "arbor/spatial/fwd.hpp"
 #include "arbor/spatial/joint_state.hpp"
 #include "arbor/spatial/motion.hpp"
@@ -50,36 +53,53 @@ struct JointMotion {
     return js;
   }
 
-  // ---- joint rotation Rj (revolute) ----------------------------------------------------------
-  /// Rj x (rotation by +q about the axis).
-  template <bool Transposed = false>
-  ARBOR_INLINE static Vec3<Scalar> jrot(const JointState<Scalar>& js, const Vec3<Scalar>& x) {
+  // ---- joint rotation Rj (revolute), on triples (spatial/coords.hpp) ------------------------
+  /// y = Rj x (Transposed: Rj^T x) for the coordinates x0, x1, x2 of one type T (scalars or
+  /// rows of a block); the identity for prismatic joints. y is written entry by entry and must
+  /// not alias x. Aligned: 4 multiplications and 2 additions per vector; unaligned: Rodrigues,
+  /// Rx = c x + s (a x x) + (1 - c)(a . x) a.
+  template <bool Transposed, class T, class Y>
+  ARBOR_INLINE static void jrot_into(const JointState<Scalar>& js, const T& x0, const T& x1,
+                                     const T& x2, Y&& y) {
+    const T* x[3] = {&x0, &x1, &x2};
     if constexpr (!revolute) {
-      return x;
+      y[0] = x0;
+      y[1] = x1;
+      y[2] = x2;
     } else if constexpr (aligned) {
-      Vec3<Scalar> y;
-      y[k] = x[k];
+      y[k] = *x[k];
       if constexpr (!Transposed) {
-        y[ia] = js.c * x[ia] - js.s * x[ib];
-        y[ib] = js.s * x[ia] + js.c * x[ib];
+        y[ia] = *x[ia] * js.c - *x[ib] * js.s;
+        y[ib] = *x[ia] * js.s + *x[ib] * js.c;
       } else {
-        y[ia] = js.c * x[ia] + js.s * x[ib];
-        y[ib] = js.c * x[ib] - js.s * x[ia];
+        y[ia] = *x[ia] * js.c + *x[ib] * js.s;
+        y[ib] = *x[ib] * js.c - *x[ia] * js.s;
       }
-      return y;
     } else {
-      // Rodrigues: Rx = c x + s (a x x) + (1 - c)(a . x) a
-      const Vec3<Scalar> ax = cst::cross<Scalar, AxisV>(x);
-      const Scalar adx =
+      using Ka = cst::Skew<AxisV>;
+      const T t =
           cst::dot3<Scalar, cst::VEntry<AxisV, 0>, cst::VEntry<AxisV, 1>, cst::VEntry<AxisV, 2>>(
-              x[0], x[1], x[2], [] { return Scalar(0); });
-      const Vec3<Scalar> a(Scalar(AxisV::at(0)), Scalar(AxisV::at(1)), Scalar(AxisV::at(2)));
-      const Scalar t = (Scalar(1) - js.c) * adx;
-      if constexpr (!Transposed)
-        return x * js.c + ax * js.s + a * t;
-      else
-        return x * js.c - ax * js.s + a * t;
+              x0, x1, x2, [] { return cst::zero_of<T>(); }) *
+          (Scalar(1) - js.c);
+      const Scalar sg = Transposed ? Scalar(-js.s) : js.s;
+      const T ax[3] = {cst::krow<Scalar, Ka, 0>(x0, x1, x2), cst::krow<Scalar, Ka, 1>(x0, x1, x2),
+                       cst::krow<Scalar, Ka, 2>(x0, x1, x2)};
+      static_for<3>([&](auto J) {
+        constexpr int j = decltype(J)::value;
+        T e = *x[j] * js.c + ax[j] * sg;
+        cst::add_scaled<Scalar, cst::VEntry<AxisV, j>>(e, t);
+        y[j] = e;
+      });
     }
+  }
+  /// Rj x (Transposed: Rj^T x) for a 3-vector.
+  template <bool Transposed = false, class D>
+  ARBOR_INLINE static Vec3<Scalar> jrot(const JointState<Scalar>& js,
+                                        const Eigen::MatrixBase<D>& x) {
+    const Scalar x0 = x[0], x1 = x[1], x2 = x[2];
+    Vec3<Scalar> y;
+    jrot_into<Transposed>(js, x0, x1, x2, y);
+    return y;
   }
   template <class D>
   ARBOR_INLINE static Vec3<Scalar> jrotT(const JointState<Scalar>& js,
@@ -140,16 +160,30 @@ struct JointMotion {
       return Vec3<Scalar>(Scalar(AxisV::at(0)), Scalar(AxisV::at(1)), Scalar(AxisV::at(2))) * js.d;
     }
   }
-  /// d x x for the prismatic translation d.
-  ARBOR_INLINE static Vec3<Scalar> dcross(const JointState<Scalar>& js, const Vec3<Scalar>& x) {
-    if constexpr (aligned) {
-      Vec3<Scalar> y;
-      y[k] = Scalar(0);
-      y[ib] = js.d * x[ia];
-      y[ia] = -(js.d * x[ib]);
-      return y;
+  /// y += d x x (Sign > 0) or y -= d x x (Sign < 0) for the prismatic translation d, on
+  /// triples (y must not alias x).
+  template <int Sign, class X, class Y>
+  ARBOR_INLINE static void add_dcross(const JointState<Scalar>& js, const X& x, Y&& y) {
+    using T = Coord<X>;
+    if constexpr (aligned) {  // d x x = d (-x_b e_a + x_a e_b)
+      if constexpr (Sign > 0) {
+        y[ia] -= T(x[ib]) * js.d;
+        y[ib] += T(x[ia]) * js.d;
+      } else {
+        y[ia] += T(x[ib]) * js.d;
+        y[ib] -= T(x[ia]) * js.d;
+      }
     } else {
-      return cst::cross<Scalar, AxisV>(x) * js.d;
+      using Ka = cst::Skew<AxisV>;
+      const T x0 = x[0], x1 = x[1], x2 = x[2];
+      const T ax[3] = {cst::krow<Scalar, Ka, 0>(x0, x1, x2), cst::krow<Scalar, Ka, 1>(x0, x1, x2),
+                       cst::krow<Scalar, Ka, 2>(x0, x1, x2)};
+      for (int j = 0; j < 3; ++j) {
+        if constexpr (Sign > 0)
+          y[j] += ax[j] * js.d;
+        else
+          y[j] -= ax[j] * js.d;
+      }
     }
   }
 
@@ -179,62 +213,95 @@ struct JointMotion {
     }
   }
 
-  // ---- motion subspace S -----------------------------------------------------------------------
-  /// S * x as a motion.
-  ARBOR_INLINE static Motion<Scalar> S_times(const Scalar& x) {
-    Motion<Scalar> m = Motion<Scalar>::Zero();
-    add_S(m, x);
-    return m;
+  // ---- motion subspace S, on triples -----------------------------------------------------------
+  /// Which of the six entries (v then w) of m x (S x) can be nonzero (bit j: entry j): m x e_k
+  /// has no k component; a prismatic joint's has no angular part.
+  static constexpr unsigned cross_S_nz = !aligned   ? 0x3fu
+                                         : revolute ? (0x3fu & ~((1u << k) | (1u << (3 + k))))
+                                                    : (0x7u & ~(1u << k));
+
+  /// The joint's sign applied to x (aligned kinds).
+  template <class T>
+  ARBOR_INLINE static T signed_(const T& x) {
+    if constexpr (sign > 0)
+      return x;
+    else
+      return T(-x);
   }
-  /// m += S * x.
-  ARBOR_INLINE static void add_S(Motion<Scalar>& m, const Scalar& x) {
+  /// (v, w) += S x, x one coordinate value (a scalar, or a row: one value per column).
+  template <class V, class W, class T>
+  ARBOR_INLINE static void add_S(V&& v, W&& w, const T& x) {
+    auto&& t = [&]() -> auto&& {
+      if constexpr (revolute)
+        return w;
+      else
+        return v;
+    }
+    ();
     if constexpr (aligned) {
-      Vec3<Scalar>& t = revolute ? m.w : m.v;
       if constexpr (sign > 0)
         t[k] += x;
       else
         t[k] -= x;
     } else {
-      Vec3<Scalar>& t = revolute ? m.w : m.v;
       static_for<3>([&](auto J) {
         constexpr int j = decltype(J)::value;
         if constexpr (AxisV::at(j) != 0.0)
-          t[j] += Scalar(AxisV::at(j)) * x;
+          t[j] += x * Scalar(AxisV::at(j));
       });
     }
   }
-  /// S^T f (the joint component of a force).
-  ARBOR_INLINE static Scalar ST(const Force<Scalar>& f) {
-    const Vec3<Scalar>& t = revolute ? f.n : f.f;
-    if constexpr (aligned) {
-      if constexpr (sign > 0)
-        return t[k];
+  /// m += S x.
+  ARBOR_INLINE static void add_S(Motion<Scalar>& m, const Scalar& x) { add_S(m.v, m.w, x); }
+  /// S x as a motion.
+  ARBOR_INLINE static Motion<Scalar> S_times(const Scalar& x) {
+    Motion<Scalar> m = Motion<Scalar>::Zero();
+    add_S(m, x);
+    return m;
+  }
+  /// S^T (f, n), the joint component of the force (or of each column of a block).
+  template <class F, class N>
+  ARBOR_INLINE static auto ST(const F& f, const N& n) {
+    using T = Coord<F>;
+    const auto& t = [&]() -> const auto& {
+      if constexpr (revolute)
+        return n;
       else
-        return Scalar(-t[k]);
+        return f;
+    }
+    ();
+    if constexpr (aligned) {
+      return signed_(T(t[k]));
     } else {
+      const T t0 = t[0], t1 = t[1], t2 = t[2];
       return cst::dot3<Scalar, cst::VEntry<AxisV, 0>, cst::VEntry<AxisV, 1>, cst::VEntry<AxisV, 2>>(
-          t[0], t[1], t[2], [] { return Scalar(0); });
+          t0, t1, t2, [] { return cst::zero_of<T>(); });
     }
   }
-  /// m x (S x): the velocity-product term of the joint.
-  ARBOR_INLINE static Motion<Scalar> cross_S(const Motion<Scalar>& m, const Scalar& x) {
-    if constexpr (aligned) {
-      // y x e_k = y_b e_a - y_a e_b (times sign * x)
-      const Scalar sx = sign > 0 ? x : Scalar(-x);
-      auto cross_e = [&](const Vec3<Scalar>& y) {
-        Vec3<Scalar> r;
-        r[k] = Scalar(0);
-        r[ia] = y[ib] * sx;
-        r[ib] = -(y[ia] * sx);
-        return r;
-      };
-      if constexpr (revolute)
-        return {cross_e(m.v), cross_e(m.w)};
-      else
-        return {cross_e(m.w), Vec3<Scalar>::Zero()};
+  ARBOR_INLINE static Scalar ST(const Force<Scalar>& f) { return ST(f.f, f.n); }
+  /// a += m x (S x): the velocity-product term of the joint.
+  ARBOR_INLINE static void add_cross_S(Motion<Scalar>& a, const Motion<Scalar>& m,
+                                       const Scalar& x) {
+    if constexpr (aligned) {  // y x e_k = y_b e_a - y_a e_b (times sign x)
+      const Scalar sx = signed_(x);
+      if constexpr (revolute) {
+        a.v[ia] += m.v[ib] * sx;
+        a.v[ib] -= m.v[ia] * sx;
+        a.w[ia] += m.w[ib] * sx;
+        a.w[ib] -= m.w[ia] * sx;
+      } else {
+        a.v[ia] += m.w[ib] * sx;
+        a.v[ib] -= m.w[ia] * sx;
+      }
     } else {
-      return cross(m, S_times(x));
+      a += cross(m, S_times(x));
     }
+  }
+  /// m x (S x).
+  ARBOR_INLINE static Motion<Scalar> cross_S(const Motion<Scalar>& m, const Scalar& x) {
+    Motion<Scalar> a = Motion<Scalar>::Zero();
+    add_cross_S(a, m, x);
+    return a;
   }
 };
 
