@@ -11,9 +11,9 @@
 #                not need GoogleTest or IPOPT)
 #   OUT_DIR      where the log and plots go (default $BUILD_DIR/contour)
 #   DEMO=robots  the robot table instead (what the generator made of each robot)
-#   DEMO=scenarios  issue 36's scenarios, one run each (nominal; unknown 0.5 kg payload without
-#                and with the momentum observer; the payload declared to the controller at run
-#                time; unknown damping and armature; noise, plain and filtered), their
+#   DEMO=scenarios  issue 36's scenarios, one run each (nominal; unknown 0.5 kg payload with
+#                and without the momentum observer; the payload declared to the controller at run
+#                time; unknown damping and armature; noise, filtered and not), their
 #                summaries' key lines and scenarios.png side by side
 #   DEMO=disturbances  issue 59's disturbances in the middle of the task, without a start phase
 #                (--hold 0): a 0.5 kg payload attached at 2 s (and released at 4 s), a 10 N push
@@ -67,9 +67,9 @@ mkdir -p "$out"
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
 if [ "${DEMO:-contour}" = scenarios ]; then
-  names=(nominal payload payload_observer payload_known damping_armature noise noise_filtered)
-  args=("" "--mismatch" "--mismatch --observer" "--known-payload" "--damping 0.5 --armature 0.05"
-        "--noise 1e-3" "--noise 1e-3 --state-filter 0.3 --backoff 1e-3")
+  names=(nominal payload payload_no_observer payload_known damping_armature noise noise_unfiltered)
+  args=("" "--mismatch" "--mismatch --no-observer" "--known-payload" "--damping 0.5 --armature 0.05"
+        "--noise 1e-3" "--noise 1e-3 --state-filter 0")
   plots=()
   status=0
   for i in "${!names[@]}"; do

@@ -21,9 +21,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <chrono>
 #include <cmath>
 
+#include "arbor/nmpc/inner_loop.hpp"
 #include "estimator.hpp"
 #include "mpc.hpp"
 #include "options.hpp"
@@ -127,6 +129,11 @@ class ContourLoop {
     samples_ = 0;
     hold_samples_ = int(std::lround(options_.hold / h));
     estimator_.reset(initial_q(), plant_.substep_dt());
+    step_count_ = 0;  // the inner loop's readings: the initial state's is step 0
+    recent_q_[0] = initial_q();
+    recent_qd_[0].setZero();
+    if (inner_loop_runs())  // (no draw otherwise: the noise sequence stays the loop's without it)
+      estimator_.sense(recent_q_[0], recent_qd_[0]);
     set_parameters();
     mpc_.set_hold(hold_samples_ > 0);
     start_status_ = mpc_.start(x0, plant_.nominal());
@@ -140,7 +147,12 @@ class ContourLoop {
     Controller& ctrl = mpc_.controller();
     const VecN<double, nu> u = ctrl.control().template cast<double>();
     monitor_.begin(mpc_.reference(), plant_.substep_dt(), plant_.x()[14], plant_.x()[15], u[7]);
-    plant_.step(F, u, monitor_.hook(estimator_.substep_hook()));
+    if (inner_loop_runs()) {
+      start_inner_loop(u);
+      plant_.step(F, u, monitor_.hook(reading_hook()), torque_law());
+    } else {
+      plant_.step(F, u, monitor_.hook(estimator_.substep_hook()));
+    }
     ++samples_;
     t_ += h;
     const VecN<double, nx>& pl = plant_.x();
@@ -213,6 +225,62 @@ class ContourLoop {
   }
 
  private:
+  using InnerLoop = arbor::nmpc::InnerLoop<double, nx, nu, nq>;
+  static constexpr int kReadings = StepMonitor::kKeep;  ///< readings kept (>= delay + 1)
+
+  bool inner_loop_runs() const { return options_.inner_loop && F == Formulation::fd; }
+
+  /// The inner loop's law for the coming sample: the plan's u_0, x_0, x_1 (the last feedback's),
+  /// the QP's gain K_0 and its status, the torque bounds (sdd held at u_0's: the plant integrates
+  /// s with the sample's sdd) and the estimate the plan compensates.
+  void start_inner_loop(const VecN<double, nu>& u) {
+    Controller& ctrl = mpc_.controller();
+    Eigen::Matrix<Scalar, nu, nx> k;
+    const arbor::nmpc::NmpcStatus gs = ctrl.feedback_gain(0, k);
+    VecN<double, nu> lb, ub;
+    for (int i = 0; i < nq; ++i) {
+      lb[i] = -tau_max[std::size_t(i)];
+      ub[i] = tau_max[std::size_t(i)];
+    }
+    lb[nq] = ub[nq] = u[nq];
+    const bool compensate = estimator_.observing() && options_.observer_plant_rate;
+    const VecN<double, nq> d0 = estimator_.estimate();
+    (void)inner_.start(u, ctrl.state(0).template cast<double>(),
+                       ctrl.state(1).template cast<double>(), h, lb, ub, gs,
+                       k.template cast<double>(), compensate ? &d0 : nullptr);
+    sample_start_ = step_count_;
+  }
+
+  /// After each plant step: the step's noisy reading (and the observer's update from it), kept
+  /// for the inner loop.
+  SubstepHook reading_hook() {
+    return {this, [](void* self, const VecN<double, nq>& q, const VecN<double, nq>& qd,
+                     const VecN<double, nq>& tau) {
+              auto& l = *static_cast<ContourLoop*>(self);
+              ++l.step_count_;
+              const std::size_t i = std::size_t(l.step_count_ % kReadings);
+              l.recent_q_[i] = q;
+              l.recent_qd_[i] = qd;
+              l.estimator_.sense_step(l.recent_q_[i], l.recent_qd_[i], tau);
+            }};
+  }
+
+  /// Before each plant step k of the sample: the inner loop's torque from the reading
+  /// Options::delay_steps steps old, at t = k dt since the plan's x_0 was measured.
+  TorqueLaw torque_law() {
+    return {this, [](void* self, int k, VecN<double, nq>& tau) {
+              auto& l = *static_cast<ContourLoop*>(self);
+              long idx = l.sample_start_ + k - l.options_.delay_steps;
+              idx = idx < 0 ? 0 : idx;
+              const std::size_t i = std::size_t(idx % kReadings);
+              const double t = k * l.plant_.substep_dt();
+              VecN<double, nx> x = l.inner_.predicted(t);  // s, sd: the plan's
+              x.template head<nq>() = l.recent_q_[i];
+              x.template segment<nq>(nq) = l.recent_qd_[i];
+              tau = l.inner_.control(t, x, l.estimator_.estimate()).template head<nq>();
+            }};
+  }
+
   /// The controller's stage parameters: the observer's estimate when it runs.
   void set_parameters() {
     mpc_.set_parameters(estimator_.observing() ? &estimator_.estimate() : nullptr);
@@ -222,6 +290,10 @@ class ContourLoop {
   Mpc mpc_;
   Estimator estimator_;
   StepMonitor monitor_;  ///< the limits at every plant step
+  InnerLoop inner_;      ///< the torque-rate inner loop (Options::inner_loop)
+  std::array<VecN<double, nq>, kReadings> recent_q_{}, recent_qd_{};  ///< its readings
+  long step_count_ = 0;                                               ///< plant steps since start()
+  long sample_start_ = 0;  ///< step_count_ at the sample's start
   PlantModel nominal_;
   PayloadPlant payload_;
   PlantRef plant_;  // after the plants it may refer to

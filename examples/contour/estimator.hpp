@@ -69,6 +69,17 @@ class Estimator {
         prediction.head<2 * nq>() + a * (meas - prediction).template head<2 * nq>();
   }
 
+  /// A noisy reading of the plant's q, qd at a plant step (Options::noise), and the observer's
+  /// update from it when it runs at the plant's rate: what ContourLoop's torque-rate inner loop
+  /// reads at every step (instead of substep_hook()).
+  void sense_step(Vq& q, Vq& v, const Vq& tau) {
+    add_noise(q, v);
+    if (fast())
+      (void)obs_.update(q, v, tau);
+  }
+  /// A noisy reading of q, qd (Options::noise), nothing else.
+  void sense(Vq& q, Vq& v) { add_noise(q, v); }
+
   /// The observer runs (Options::observer).
   bool observing() const { return options_.observer; }
   /// Its estimate d of the missing joint torque.

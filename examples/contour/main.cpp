@@ -101,8 +101,8 @@ void usage(const char* argv0) {
       "                    |e_p|^2 - radius^2 <= 0, of order 1e-4 m^2; --sqp sets it, since\n"
       "                    CONTOUR.md's absolute 1e-3 primal tolerance admits |e_p| up to 33 mm\n"
       "                    on the unscaled row)\n"
-      "  --backoff B       the controller's tunnel radius is rho - B (default 1e-4 m: margin for\n"
-      "                    the linearisation error of real-time iteration)\n"
+      "  --backoff B       the controller's tunnel radius is rho - B (default 1e-3 m: margin for\n"
+      "                    the disturbances and the linearisation error of real-time iteration)\n"
       "  --qp-iter N       at most N active-set iterations per QP (default: the library's)\n"
       "  --qp-tol T        QP tolerances in RTI mode (default 1e-8; 0: the library's)\n"
       "  --feedback-iter K RTI: bound the feedback's QP to K iterations, its step taken anyway\n"
@@ -113,7 +113,8 @@ void usage(const char* argv0) {
       "  --shift-multipliers  shift() moves the multipliers with the plan (the QP's warm start\n"
       "                    one stage earlier; default: kept in place, see README)\n"
       "  --observer        generalized-momentum observer (arbor/nmpc/momentum_observer.hpp): the\n"
-      "                    joint torque the model lacks, estimated and fed to the OCP (OCP-FD)\n"
+      "                    joint torque the model lacks, estimated and fed to the OCP (OCP-FD;\n"
+      "                    the default)   --no-observer  without it\n"
       "  --observer-gain K its gain [1/s] (default 20)\n"
       "  --observer-rate R plant (default: after every plant step, the torque loop's rate) or\n"
       "                    sample (once per 0.02 s sample)\n"
@@ -121,7 +122,11 @@ void usage(const char* argv0) {
       "                    (default 0.5; the figures count from the task's start)\n"
       "  --qd-margin M     the controller's velocity bound is (1 - M) qd_max (default 0)\n"
       "  --state-filter A  the controller gets prediction + A (measurement - prediction) on q, qd\n"
-      "                    (the last plan's x_1 as the prediction; default 0: off)\n"
+      "                    (the last plan's x_1 as the prediction; default 0.3; 0: off)\n"
+      "  --inner-loop      OCP-FD: a torque-rate inner loop at every plant step on the QP's own\n"
+      "                    feedback gain (arbor/nmpc/inner_loop.hpp; with the observer also the\n"
+      "                    estimate's change since the sample; the default)\n"
+      "  --no-inner-loop   without it\n"
       "  --progress N      print a progress line every N samples (default 50; 0: none)\n"
       "  --help            this text\n",
       argv0, to_string(kForm), kTagName, kSoft ? "soft" : "hard",
@@ -209,6 +214,14 @@ int main(int argc, char** argv) {
   // The feedback's QP bounded to 2 iterations (its step taken anyway, step_limited): the worst
   // sample's cost near the median's, the closed loop the same (README.md, "Configurations")
   o.feedback_qp_iter = 2;
+  // One configuration for the disturbances a robot meets (README.md, "Disturbances in the
+  // middle of the task"): the torque-rate inner loop on the QP's feedback gain, the momentum
+  // observer at the plant's rate, the state filter 0.3 and a 1 mm tunnel back-off; each part off
+  // with --no-inner-loop, --no-observer, --state-filter 0 (and the back-off's size with --backoff;
+  // task.hpp's default_backoff, 1 mm)
+  o.inner_loop = true;
+  o.observer = true;
+  o.state_filter = 0.3;
   bool use_mujoco = CONTOUR_MUJOCO != 0;
 #if CONTOUR_MUJOCO
   MujocoPlantOptions mo;
@@ -322,6 +335,8 @@ int main(int argc, char** argv) {
       o.shift_multipliers = true;
     } else if (a == "--observer") {
       o.observer = true;
+    } else if (a == "--no-observer") {
+      o.observer = false;
     } else if (a == "--observer-gain") {
       o.observer_gain = std::atof(value("a number"));
     } else if (a == "--observer-rate") {
@@ -337,6 +352,10 @@ int main(int argc, char** argv) {
       o.state_filter = std::atof(value("a number"));
     } else if (a == "--qd-margin") {
       o.qd_margin = std::atof(value("a number"));
+    } else if (a == "--inner-loop") {
+      o.inner_loop = true;
+    } else if (a == "--no-inner-loop") {
+      o.inner_loop = false;
     } else if (a == "--progress") {
       progress = std::atoi(value("a number"));
     } else {
@@ -436,6 +455,9 @@ int main(int argc, char** argv) {
                 o.observer_plant_rate ? "after every plant step" : "once per sample");
   if (o.hold > 0)
     std::printf("start phase: the initial pose held for %g s\n", o.hold);
+  if (o.inner_loop)
+    std::printf("torque-rate inner loop: the QP's feedback gain at every plant step%s\n",
+                o.observer && o.observer_plant_rate ? ", with the estimate's change" : "");
   if (o.delay_steps > 0)
     std::printf("measurement delay: %d plant steps\n", o.delay_steps);
   const auto st0 = loop.start();

@@ -4,7 +4,8 @@
 //   - MuJoCo steps at its own rate (MujocoPlantOptions::dt, 1 ms by default, h / dt steps per
 //     0.02 s sample) with its own integrator (RK4 by default; `euler`: MuJoCo's semi-implicit
 //     Euler, implicit in the joint damping).
-//   - OCP-FD: the torque of u_0 is applied as qfrc_applied (joint torque, no clipping), held over
+//   - OCP-FD: the torque of u_0 (or a TorqueLaw's, per step: plant.hpp) is applied as qfrc_applied
+//     (joint torque, no clipping), held over
 //     the sample. OCP-ID: the inner 1 kHz computed-torque loop of plant.hpp, tau = rnea(q, qd,
 //     qdd_cmd) on the controller's (nominal) arbor model at each MuJoCo step.
 //   - Unknown to the controller: a point mass at the end-effector frame (the 0.5 kg of
@@ -118,7 +119,7 @@ class MujocoPlant {
   /// One sample of length h: u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id); after each MuJoCo step
   /// hook(q, qd, tau) with the state it reached and the torque it applied (plant.hpp's Plant).
   template <class Hook = NoSubstepHook>
-  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}) {
+  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}, TorqueLaw law = {}) {
     tau_peak.setZero();
     mj_.set_state(x.head<nq>(), x.segment<nq>(nq));
     mjData* d = mj_.d;
@@ -130,6 +131,7 @@ class MujocoPlant {
       Vq tau;
       if (form == Formulation::fd) {
         tau = u.head<nq>();
+        law(k, tau);
       } else {
         Vq q, v;
         for (int i = 0; i < nq; ++i) {

@@ -61,6 +61,11 @@ struct Options {
   /// (a sensor and bus delay; s and sd, the controller's own states, are not delayed); at most
   /// StepMonitor::kKeep - 1
   int delay_steps = 0;
+  /// OCP-FD: a torque-rate inner loop between samples (arbor/nmpc/inner_loop.hpp): at every
+  /// plant step u = clamp(u_0 + K_0 (x - x_pred(t)) - (d - d_0)) with the QP's own feedback gain
+  /// K_0 (Nmpc::feedback_gain), x the (noisy, delayed) measurement at that step, x_pred the plan's
+  /// chord from x_0 to x_1, d the observer's estimate when it runs at the plant's rate
+  bool inner_loop = false;
 };
 
 }  // namespace contour

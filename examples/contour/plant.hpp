@@ -4,7 +4,8 @@
 // own forward dynamics (aba) by RK4 at 1 ms, 20 substeps per 0.02 s sample (20 aba calls x 4 per
 // sample), applying the controller's first input; s and sd (virtual states) integrate the applied
 // sdd exactly (`--plant arbor`).
-//   OCP-FD: the torque tau of u_0 is held over the sample.
+//   OCP-FD: the torque tau of u_0 is held over the sample (or, with a TorqueLaw, the law's
+//           torque at each substep: the torque-rate inner loop).
 //   OCP-ID: an inner 1 kHz computed-torque loop: at each 1 ms substep tau = rnea(q, qd, qdd_cmd)
 //           on the controller's (nominal) model, held over the substep; the plant moves with its
 //           own model, so with a model mismatch the acceleration differs from the command.
@@ -43,6 +44,19 @@ struct SubstepHook {
   }
 };
 
+/// A torque law a plant calls before each substep k (0-based within the sample) of an OCP-FD
+/// sample with the torque it would apply (u_0's), which the law may change: a torque-rate inner
+/// loop (ContourLoop with Options::inner_loop). Nothing when fn is null.
+struct TorqueLaw {
+  using Vq = VecN<double, nq>;
+  void* obj = nullptr;
+  void (*fn)(void*, int, Vq&) = nullptr;
+  void operator()(int k, Vq& tau) const {
+    if (fn)
+      fn(obj, k, tau);
+  }
+};
+
 /// What the closed loop needs of a plant: the state x = [q, qd, s, sd]; step(form, u, hook), one
 /// sample of length h from u = [tau, sdd] (fd) or [qdd_cmd, sdd] (id, a computed-torque loop on
 /// `nominal`, the controller's model), calling hook(q, qd, tau) after each substep (of length
@@ -54,7 +68,7 @@ concept Plant = requires(P& p, const Reference& ref, const VecN<double, nu>& u) 
   { p.tau_applied } -> std::convertible_to<VecN<double, nq>>;
   { p.tau_peak } -> std::convertible_to<VecN<double, nq>>;
   { p.nominal } -> std::convertible_to<arbor::Data<Robot, double>&>;
-  p.step(Formulation::fd, u, SubstepHook{});
+  p.step(Formulation::fd, u, SubstepHook{}, TorqueLaw{});
   { p.ee_position() } -> std::convertible_to<VecN<double, 3>>;
   { p.rotation_error(ref) } -> std::convertible_to<VecN<double, 3>>;
   { p.substep_dt() } -> std::convertible_to<double>;
@@ -117,12 +131,13 @@ struct ArborPlant {
   /// hook(q, qd, tau) with the state it reached and the torque it applied (a torque loop's
   /// observer runs there).
   template <class Hook = NoSubstepHook>
-  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}) {
+  void step(Formulation form, const VecN<double, nu>& u, Hook&& hook = {}, TorqueLaw law = {}) {
     tau_peak.setZero();
     for (int k = 0; k < substeps; ++k) {
       Vq tau;
       if (form == Formulation::fd) {
         tau = u.head<nq>();
+        law(k, tau);
       } else {
         tau =
             arbor::rnea<Robot>(nominal, Vq(x.head<nq>()), Vq(x.segment<nq>(nq)), Vq(u.head<nq>()));
@@ -184,9 +199,8 @@ class PlantRef {
         tau_peak_(&p.tau_peak),
         nominal_(&p.nominal),
         substep_dt_(p.substep_dt()),
-        step_([](void* o, Formulation f, const VecN<double, nu>& u, SubstepHook hook) {
-          static_cast<P*>(o)->step(f, u, hook);
-        }),
+        step_([](void* o, Formulation f, const VecN<double, nu>& u, SubstepHook hook,
+                 TorqueLaw law) { static_cast<P*>(o)->step(f, u, hook, law); }),
         ee_position_([](void* o) { return VecN<double, 3>(static_cast<P*>(o)->ee_position()); }),
         rotation_error_([](void* o, const Reference& r) {
           return VecN<double, 3>(static_cast<P*>(o)->rotation_error(r));
@@ -198,8 +212,8 @@ class PlantRef {
   const Vq& tau_peak() const { return *tau_peak_; }
   arbor::Data<Robot, double>& nominal() { return *nominal_; }
   double substep_dt() const { return substep_dt_; }
-  void step(Formulation f, const VecN<double, nu>& u, SubstepHook hook = {}) {
-    step_(obj_, f, u, hook);
+  void step(Formulation f, const VecN<double, nu>& u, SubstepHook hook = {}, TorqueLaw law = {}) {
+    step_(obj_, f, u, hook, law);
   }
   VecN<double, 3> ee_position() { return ee_position_(obj_); }
   VecN<double, 3> rotation_error(const Reference& r) { return rotation_error_(obj_, r); }
@@ -211,7 +225,7 @@ class PlantRef {
   Vq* tau_peak_;
   arbor::Data<Robot, double>* nominal_;
   double substep_dt_;
-  void (*step_)(void*, Formulation, const VecN<double, nu>&, SubstepHook);
+  void (*step_)(void*, Formulation, const VecN<double, nu>&, SubstepHook, TorqueLaw);
   VecN<double, 3> (*ee_position_)(void*);
   VecN<double, 3> (*rotation_error_)(void*, const Reference&);
 };

@@ -56,12 +56,13 @@ constexpr double qd_max = 0.8727;                                               
 constexpr std::array<double, nq> q_max{inf, 2.2, inf, 2.5656, inf, 2.05, inf};  // |q| [rad]
 constexpr double qdd_max = 240.0 * pi / 180.0;  // |qdd| (OCP-ID) [rad/s^2]
 constexpr double rho = 0.01;                    // tunnel radius [m]
-/// The controller's default tunnel back-off [m] (options.hpp's Options::backoff < 0): the
-/// margin for the linearisation error of real-time iteration (double, 1e-4: the plant reached
-/// 10.002 mm without it) and, in float, for the QP's looser primal tolerance (3e-4; README.md,
-/// "Float").
+/// The controller's default tunnel back-off [m] (options.hpp's Options::backoff < 0): 1 mm, the
+/// margin for the disturbances the plant meets in mid-task (a payload picked up or released, a
+/// push, noise, a delay: README.md, "Disturbances in the middle of the task"; with 0.5 mm the
+/// plant leaves rho + 1 mm when they come together), which also covers the linearisation error of
+/// real-time iteration (0.1 mm) and float's looser QP tolerance (0.3 mm; README.md, "Float").
 template <class Scalar>
-constexpr double default_backoff = std::is_same_v<Scalar, float> ? 3e-4 : 1e-4;
+constexpr double default_backoff = 1e-3;
 /// Initial configuration q0 (qd0 = 0, s0 = sd0 = 0).
 inline Eigen::Matrix<double, nq, 1> initial_q() {
   Eigen::Matrix<double, nq, 1> q;

@@ -105,5 +105,34 @@ TEST(StepMonitor, ChainsTheNextHook) {
   EXPECT_GT(monitor.peaks().qd.maxCoeff(), 0);  // zero torque: the arm falls
 }
 
+/// A plant calls its torque law before every OCP-FD substep, k = 0 .. 19 in order, and applies
+/// the law's torque (the inner loop's wiring).
+TEST(TorqueLaw, CalledBeforeEveryStep) {
+  static ArborPlant<Robot> plant;
+  plant.x.setZero();
+  plant.x.head<nq>() = initial_q();
+  struct Calls {
+    std::vector<int> k;
+  } calls;
+  TorqueLaw law{&calls, [](void* o, int k, Vq& tau) {
+                  static_cast<Calls*>(o)->k.push_back(k);
+                  tau *= 0.5;
+                  tau[1] = -3.0 - k;  // a torque that changes per step
+                }};
+  VecN<double, nu> u;
+  u << 4, 10, 2, 6, 1, 2, 0.5, 0;
+  plant.step(Formulation::fd, u, SubstepHook{}, law);
+  ASSERT_EQ(int(calls.k.size()), 20);
+  for (int k = 0; k < 20; ++k)
+    EXPECT_EQ(calls.k[std::size_t(k)], k);
+  EXPECT_EQ(plant.tau_applied[1], -22.0);  // the last step's
+  EXPECT_EQ(plant.tau_applied[0], 2.0);
+  EXPECT_EQ(plant.tau_peak[1], 22.0);
+  // OCP-ID runs its own computed-torque loop: no law call
+  calls.k.clear();
+  plant.step(Formulation::id, VecN<double, nu>::Zero(), SubstepHook{}, law);
+  EXPECT_TRUE(calls.k.empty());
+}
+
 }  // namespace
 }  // namespace contour

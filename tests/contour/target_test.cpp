@@ -142,9 +142,9 @@ void write_trajectory() {
 }
 #endif
 
-// Tolerances per precision. Tunnel: the controller plans inside rho - 0.1 mm (the back-off); the
-// plant stays inside rho in both precisions (float with closed_loop.hpp's float_qp_tol_primal and
-// default_backoff: 9.870 mm (OCP-FD) and 9.798 mm (OCP-ID) at most over a whole run to s > 0.99).
+// Tolerances per precision. Tunnel: the controller plans inside rho - 1 mm (task.hpp's
+// default_backoff); the plant stays inside rho in both precisions (float with mpc.hpp's
+// float_qp_tol_primal).
 constexpr double kTunnelTol = 1e-6;
 // Torque limits: OCP-FD applies u_0's torque, bounded exactly; OCP-ID bounds ID(q, qd, qdd) at the
 // plan's nodes, while the plant's 1 kHz computed-torque loop evaluates it along the true motion.
