@@ -44,15 +44,25 @@ using Loop = ContourLoop<kForm, arbor::ad::Analytical, false, double, CallgrindT
 
 int main(int argc, char** argv) {
   Options o;
-  // [K] [--mismatch] [--noise SIGMA] [--no-presolve]: the feedback's bound on QP iterations
-  // (NmpcSettings::feedback_qp_iterations; 0: none), the plant scenarios of examples/contour
-  // (0.5 kg payload the controller does not know; measurement noise on q, 10x on qd) and the
-  // feedback computing its first step itself (NmpcSettings::presolve_feedback off; on by default)
+  // The demo's configuration for disturbances (examples/contour/main.cpp): the torque-rate inner
+  // loop, the observer at the plant's rate, the state filter 0.3 (the back-off is task.hpp's
+  // default). They run between the phases (the plant's steps, the measurement), outside the
+  // counted ones, but change the states the controller sees.
+  o.inner_loop = true;
+  o.observer = true;
+  o.state_filter = 0.3;
+  // [K] [--mismatch] [--noise SIGMA] [--no-presolve] [--former]: the feedback's bound on QP
+  // iterations (NmpcSettings::feedback_qp_iterations; 0: none), the plant scenarios of
+  // examples/contour (0.5 kg payload the controller does not know; measurement noise on q, 10x on
+  // qd), the feedback computing its first step itself (NmpcSettings::presolve_feedback off; on by
+  // default) and the former configuration (no inner loop, observer or filter)
   if (argc > 1)
     o.feedback_qp_iter = std::atoi(argv[1]);
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--mismatch")
+    if (a == "--former")
+      o.inner_loop = o.observer = false, o.state_filter = 0;
+    else if (a == "--mismatch")
       o.mismatch = true;
     else if (a == "--noise" && i + 1 < argc)
       o.noise = std::atof(argv[++i]);
