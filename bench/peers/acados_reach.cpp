@@ -325,12 +325,6 @@ struct Acados {
   }
 };
 
-struct Options {
-  int reps = 30;
-  int samples = 300;
-  int rounds = 3;
-};
-
 template <int N>
 void run(const Task& t, const Options& o) {
   using A = ArborReach<N, ocp::Sensitivity::exact>;
@@ -417,29 +411,8 @@ void run(const Task& t, const Options& o) {
   std::vector<double> t_arbor, t_frozen, t_acados, t_prep, t_fb;
   double err_arbor = 0, err_frozen = 0, err_acados = 0;
   int arbor_fail = 0, acados_fail = 0;
-  auto tip_error = [&](const Vx& x, const Eigen::Vector3d& p) {
-    pinocchio::framesForwardKinematics(t.model, pd, Vq(x.head<n>()));
-    return (pd.oMf[t.frame].translation() - p).norm();
-  };
   auto arbor_loop = [&](auto& c, auto set_target, std::vector<double>& times, double& err) {
-    Vx x = x0;
-    (void)c.set_initial_guess(x0, g0);
-    set_target(c, t.targets[0]);
-    (void)c.solve(x0);
-    for (int s = 0; s < o.samples; ++s) {
-      const Eigen::Vector3d& p = t.targets[std::size_t(s / 50) % t.targets.size()];
-      set_target(c, p);
-      c.shift();
-      const auto t0 = Clock::now();
-      nmpc::NmpcStatus s1 = c.prepare();
-      if (s1 == nmpc::NmpcStatus::prepared)
-        s1 = c.feedback(x);
-      times.push_back(us_since(t0));
-      arbor_fail += !nmpc::succeeded(s1);
-      x = plant_step(t, pd, x, c.control());
-      if (s % 50 == 49)
-        err = std::max(err, tip_error(x, p));
-    }
+    arbor_fail += arbor_closed_loop(t, o, pd, c, set_target, x0, g0, times, err);
   };
   auto acados_loop = [&] {
     Vx x = x0;
@@ -477,7 +450,7 @@ void run(const Task& t, const Options& o) {
       acados_fail += s1 != 0;
       x = plant_step(t, pd, x, rti.u(0));
       if (s % 50 == 49)
-        err_acados = std::max(err_acados, tip_error(x, p));
+        err_acados = std::max(err_acados, tip_error(t, pd, x, p));
     }
   };
   for (int r = 0; r < o.rounds; ++r) {
@@ -487,16 +460,10 @@ void run(const Task& t, const Options& o) {
   }
   const Stats ra = stats(t_arbor), rf = stats(t_frozen), rc = stats(t_acados), rp = stats(t_prep),
               rb = stats(t_fb);
-  std::printf(
-      "closed loop, %d x %d samples each (target moves every 50): time per sample, "
-      "median / p99 / max [us], worst tip error at the end of a target's 1 s [mm]\n",
-      o.rounds, o.samples);
-  std::printf("  arbor RTI (prepare + feedback), exact RK4 sens.  %8.1f %8.1f %8.1f   %6.2f\n",
-              ra.median, ra.p99, ra.max, 1e3 * err_arbor);
-  std::printf("  arbor RTI (prepare + feedback), frozen RK4 sens. %8.1f %8.1f %8.1f   %6.2f\n",
-              rf.median, rf.p99, rf.max, 1e3 * err_frozen);
-  std::printf("  acados SQP_RTI (preparation + feedback)          %8.1f %8.1f %8.1f   %6.2f\n",
-              rc.median, rc.p99, rc.max, 1e3 * err_acados);
+  print_loop_heading(o);
+  print_loop_row("arbor RTI (prepare + feedback), exact RK4 sens.", ra, err_arbor);
+  print_loop_row("arbor RTI (prepare + feedback), frozen RK4 sens.", rf, err_frozen);
+  print_loop_row("acados SQP_RTI (preparation + feedback)", rc, err_acados);
   std::printf("    of which preparation %8.1f %8.1f %8.1f, feedback %8.1f %8.1f %8.1f\n", rp.median,
               rp.p99, rp.max, rb.median, rb.p99, rb.max);
   std::printf(
@@ -509,22 +476,11 @@ void run(const Task& t, const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options o;
-  int only_n = 0;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--cpu"))
-      use_cpu_clock = true;
-    else if (!std::strcmp(argv[i], "--quick"))
-      o.reps = 3, o.samples = 100, o.rounds = 1;
-    else if (!std::strcmp(argv[i], "--N") && i + 1 < argc)
-      only_n = std::atoi(argv[++i]);
-  }
-  const Task t = make_task(PEERS_KINOVA_URDF);
-  check_models(t);
-  std::printf("times: %s\n", use_cpu_clock ? "this thread's CPU time (--cpu)" : "wall clock");
-  if (only_n == 0 || only_n == 16)
+  const Options o = parse_options(argc, argv);
+  const Task t = start_task(PEERS_KINOVA_URDF);
+  if (o.runs(16))
     run<16>(t, o);
-  if (only_n == 0 || only_n == 30)
+  if (o.runs(30))
     run<30>(t, o);
   return 0;
 }

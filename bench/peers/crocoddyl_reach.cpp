@@ -178,13 +178,6 @@ CrocReach make_crocoddyl(const Task& t, int N) {
   return c;
 }
 
-struct Options {
-  int reps = 30;      // full solves timed per framework
-  int samples = 300;  // closed-loop samples per loop
-  int rounds = 3;     // loops per framework, alternated
-  bool quick = false;
-};
-
 template <int N>
 void run(const Task& t, const Options& o) {
   using A = ArborReach<N, ocp::Sensitivity::exact>;
@@ -293,37 +286,14 @@ void run(const Task& t, const Options& o) {
   auto& afc = AF::controller();
   std::vector<double> t_arbor, t_arbor_frozen, t_bounded, t_box, t_fddp, t_prep, t_fb;
   double err_arbor = 0, err_frozen = 0, err_bounded = 0, err_box = 0, err_fddp = 0;  // per target
-  auto tip_error = [&](const Vx& x, const Eigen::Vector3d& p) {
-    pinocchio::framesForwardKinematics(t.model, pd, Vq(x.head<n>()));
-    return (pd.oMf[t.frame].translation() - p).norm();
-  };
   int arbor_fail = 0;
   // bounded: the feedback's QP capped at 2 iterations (the contour demo's default); its
   // preparation and feedback times are kept apart
   auto arbor_loop = [&](auto& c, auto set_target, std::vector<double>& times, double& err,
                         bool bounded = false) {
     c.settings().feedback_qp_iterations = bounded ? 2 : 0;
-    Vx x = x0;
-    (void)c.set_initial_guess(x0, g0);
-    set_target(c, t.targets[0]);
-    (void)c.solve(x0);  // the loop starts from a converged plan, as Crocoddyl's
-    for (int s = 0; s < o.samples; ++s) {
-      const Eigen::Vector3d& p = t.targets[std::size_t(s / 50) % t.targets.size()];
-      set_target(c, p);
-      c.shift();
-      const auto t0 = Clock::now();
-      nmpc::NmpcStatus s1 = c.prepare();
-      const auto t1 = Clock::now();
-      if (s1 == nmpc::NmpcStatus::prepared)
-        s1 = c.feedback(x);
-      times.push_back(us_since(t0));
-      if (bounded)
-        t_prep.push_back(t1 - t0), t_fb.push_back(us_since(t1));
-      arbor_fail += !nmpc::succeeded(s1);
-      x = plant_step(t, pd, x, c.control());
-      if (s % 50 == 49)
-        err = std::max(err, tip_error(x, p));
-    }
+    arbor_fail += arbor_closed_loop(t, o, pd, c, set_target, x0, g0, times, err,
+                                    bounded ? &t_prep : nullptr, bounded ? &t_fb : nullptr);
     c.settings().feedback_qp_iterations = 0;
   };
   auto croc_loop = [&](crocoddyl::SolverFDDP& solver, std::vector<double>& times, double& err) {
@@ -351,7 +321,7 @@ void run(const Task& t, const Options& o) {
       times.push_back(us_since(t0));
       x = plant_step(t, pd, x, Vu(solver.get_us()[0]));
       if (s % 50 == 49)
-        err = std::max(err, tip_error(x, p));
+        err = std::max(err, tip_error(t, pd, x, p));
     }
   };
   auto& ac_set = A::set_target;
@@ -365,22 +335,14 @@ void run(const Task& t, const Options& o) {
   }
   const Stats ra = stats(t_arbor), rf = stats(t_arbor_frozen), rb = stats(t_box),
               rd = stats(t_fddp), rg = stats(t_bounded), rp = stats(t_prep), rq = stats(t_fb);
-  std::printf(
-      "closed loop, %d x %d samples each (target moves every 50): time per sample, "
-      "median / p99 / max [us], worst tip error at the end of a target's 1 s [mm]\n",
-      o.rounds, o.samples);
-  std::printf("  arbor RTI (prepare + feedback), exact RK4 sens.  %8.1f %8.1f %8.1f   %6.2f\n",
-              ra.median, ra.p99, ra.max, 1e3 * err_arbor);
-  std::printf("  arbor RTI (prepare + feedback), frozen RK4 sens. %8.1f %8.1f %8.1f   %6.2f\n",
-              rf.median, rf.p99, rf.max, 1e3 * err_frozen);
-  std::printf("  arbor RTI, frozen sens., feedback QP <= 2 iter.  %8.1f %8.1f %8.1f   %6.2f\n",
-              rg.median, rg.p99, rg.max, 1e3 * err_bounded);
+  print_loop_heading(o);
+  print_loop_row("arbor RTI (prepare + feedback), exact RK4 sens.", ra, err_arbor);
+  print_loop_row("arbor RTI (prepare + feedback), frozen RK4 sens.", rf, err_frozen);
+  print_loop_row("arbor RTI, frozen sens., feedback QP <= 2 iter.", rg, err_bounded);
   std::printf("    of which prepare %8.1f %8.1f %8.1f, feedback %8.1f %8.1f %8.1f\n", rp.median,
               rp.p99, rp.max, rq.median, rq.p99, rq.max);
-  std::printf("  Crocoddyl BoxFDDP, 1 warm iteration              %8.1f %8.1f %8.1f   %6.2f\n",
-              rb.median, rb.p99, rb.max, 1e3 * err_box);
-  std::printf("  Crocoddyl FDDP, 1 warm iteration                 %8.1f %8.1f %8.1f   %6.2f\n",
-              rd.median, rd.p99, rd.max, 1e3 * err_fddp);
+  print_loop_row("Crocoddyl BoxFDDP, 1 warm iteration", rb, err_box);
+  print_loop_row("Crocoddyl FDDP, 1 warm iteration", rd, err_fddp);
   std::printf(
       "  ratio BoxFDDP iteration / arbor RTI sample (exact): median %.1f, max %.1f; "
       "(frozen): median %.1f, max %.1f\n",
@@ -399,22 +361,11 @@ void run(const Task& t, const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options o;
-  int only_n = 0;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--cpu"))
-      use_cpu_clock = true;
-    else if (!std::strcmp(argv[i], "--quick"))
-      o.reps = 3, o.samples = 100, o.rounds = 1;
-    else if (!std::strcmp(argv[i], "--N") && i + 1 < argc)
-      only_n = std::atoi(argv[++i]);
-  }
-  const Task t = make_task(PEERS_KINOVA_URDF);
-  check_models(t);
-  std::printf("times: %s\n", use_cpu_clock ? "this thread's CPU time (--cpu)" : "wall clock");
-  if (only_n == 0 || only_n == 16)
+  const Options o = parse_options(argc, argv);
+  const Task t = start_task(PEERS_KINOVA_URDF);
+  if (o.runs(16))
     run<16>(t, o);
-  if (only_n == 0 || only_n == 30)
+  if (o.runs(30))
     run<30>(t, o);
   return 0;
 }

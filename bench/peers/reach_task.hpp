@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <random>
@@ -114,6 +116,28 @@ inline double us_since(double t0) {
   return Clock::now() - t0;
 }
 
+/// The programs' options: `--cpu` (use_cpu_clock), `--quick` (a short run), `--N 16|30` (one
+/// horizon only).
+struct Options {
+  int reps = 30;      ///< full solves timed per framework
+  int samples = 300;  ///< closed-loop samples per loop
+  int rounds = 3;     ///< loops per framework, alternated
+  int only_n = 0;     ///< 0: every horizon
+  bool runs(int n) const { return only_n == 0 || only_n == n; }
+};
+inline Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--cpu"))
+      use_cpu_clock = true;
+    else if (!std::strcmp(argv[i], "--quick"))
+      o.reps = 3, o.samples = 100, o.rounds = 1;
+    else if (!std::strcmp(argv[i], "--N") && i + 1 < argc)
+      o.only_n = std::atoi(argv[++i]);
+  }
+  return o;
+}
+
 // ---- arbor: the OCP in arbor's API (docs/tutorial.md's shape) ---------------------------------
 template <int N, ocp::Sensitivity S>
 struct ArborReach {
@@ -174,6 +198,68 @@ inline void check_models(const Task& t) {
   }
   std::printf("model check (20 random states): max |p_ee diff| %.2e m, max rel |FD diff| %.2e\n",
               dp, da);
+}
+
+/// The closed-loop table's heading, and one row: a framework's time per sample (median / p99 / max
+/// [us]) and its worst tip error [mm].
+inline void print_loop_heading(const Options& o) {
+  std::printf(
+      "closed loop, %d x %d samples each (target moves every 50): time per sample, "
+      "median / p99 / max [us], worst tip error at the end of a target's 1 s [mm]\n",
+      o.rounds, o.samples);
+}
+inline void print_loop_row(const char* name, const Stats& r, double err) {
+  std::printf("  %-48s %8.1f %8.1f %8.1f   %6.2f\n", name, r.median, r.p99, r.max, 1e3 * err);
+}
+
+/// The plant's tip error [m] against the target p at state x (Pinocchio's kinematics).
+inline double tip_error(const Task& t, pinocchio::Data& d, const Vx& x, const Eigen::Vector3d& p) {
+  pinocchio::framesForwardKinematics(t.model, d, Eigen::Matrix<double, n, 1>(x.head<n>()));
+  return (d.oMf[t.frame].translation() - p).norm();
+}
+
+/// arbor's closed loop of the reach, the baseline of every program: the controller c (target set
+/// by set_target(c, p)) from a plan converged at the first target, then o.samples real-time
+/// iterations (shift, prepare, feedback; the target moved every 50 samples) against
+/// plant_step; the time of prepare + feedback per sample into times (with prep and fb, the two
+/// phases apart too), the worst tip error at the end of a target's second into err. Returns the
+/// samples whose status did not succeed.
+template <class C, class SetTarget>
+int arbor_closed_loop(const Task& t, const Options& o, pinocchio::Data& d, C& c,
+                      SetTarget set_target, const Vx& x0, const Vu& g0, std::vector<double>& times,
+                      double& err, std::vector<double>* prep = nullptr,
+                      std::vector<double>* fb = nullptr) {
+  int failed = 0;
+  Vx x = x0;
+  (void)c.set_initial_guess(x0, g0);
+  set_target(c, t.targets[0]);
+  (void)c.solve(x0);  // the loop starts from a converged plan, as the peers' do
+  for (int s = 0; s < o.samples; ++s) {
+    const Eigen::Vector3d& p = t.targets[std::size_t(s / 50) % t.targets.size()];
+    set_target(c, p);
+    c.shift();
+    const auto t0 = Clock::now();
+    nmpc::NmpcStatus st = c.prepare();
+    const auto t1 = Clock::now();
+    if (st == nmpc::NmpcStatus::prepared)
+      st = c.feedback(x);
+    times.push_back(us_since(t0));
+    if (prep != nullptr && fb != nullptr)
+      prep->push_back(t1 - t0), fb->push_back(us_since(t1));
+    failed += !nmpc::succeeded(st);
+    x = plant_step(t, d, x, c.control());
+    if (s % 50 == 49)
+      err = std::max(err, tip_error(t, d, x, p));
+  }
+  return failed;
+}
+
+/// The task of the URDF at urdf_path, its models checked against each other, the clock named.
+inline Task start_task(const char* urdf_path) {
+  Task t = make_task(urdf_path);
+  check_models(t);
+  std::printf("times: %s\n", use_cpu_clock ? "this thread's CPU time (--cpu)" : "wall clock");
+  return t;
 }
 
 /// The plant: Pinocchio's ABA, semi-implicit Euler at 1 ms over one sample.

@@ -21,6 +21,7 @@
 #include "arbor/ad/expr.hpp"
 #include "arbor/nmpc/controller.hpp"
 #include "arbor/nmpc/inner_loop.hpp"
+#include "coupled_masses.hpp"
 #include "lqr_reference.hpp"
 #include "status_names.hpp"
 #if __has_include(<robots/double_pendulum.hpp>)
@@ -38,52 +39,7 @@ namespace ocp = arbor::ocp;
 using arbor::nmpc::InnerLoop;
 using arbor::nmpc::NmpcStatus;
 
-constexpr int N = 20;
-constexpr double h = 0.1, k1 = 2.0, k2 = 1.0, c = 0.3;
-constexpr double A[4][4] = {{1, 0, h, 0},
-                            {0, 1, 0, h},
-                            {-h * (k1 + k2), h* k2, 1 - h* c, 0},
-                            {h * k2, -h* k2, 0, 1 - h* c}};
-constexpr double B[4][2] = {{0, 0}, {0, 0}, {h, 0}, {0, h}};
-constexpr std::array<double, 4> wx{1.0, 2.0, 0.1, 0.1};
-constexpr std::array<double, 2> wu{0.05, 0.02};
-constexpr double wN = 5.0;
-
-auto linear_problem() {
-  using D = ocp::Dims<4, 2, 1, N>;
-  const auto x = D::x;
-  const auto u = D::u;
-  auto row = [&](auto i) {
-    constexpr int r = decltype(i)::value;
-    return A[r][0] * ad::element<0>(x) + A[r][1] * ad::element<1>(x) + A[r][2] * ad::element<2>(x) +
-           A[r][3] * ad::element<3>(x) + B[r][0] * ad::element<0>(u) + B[r][1] * ad::element<1>(u);
-  };
-  const auto F =
-      ad::cat(row(std::integral_constant<int, 0>{}), row(std::integral_constant<int, 1>{}),
-              row(std::integral_constant<int, 2>{}), row(std::integral_constant<int, 3>{}));
-  return ocp::make_problem<D>(F,
-                              ocp::path_costs(ocp::least_squares(x, wx), ocp::least_squares(u, wu)),
-                              ocp::terminal_costs(ocp::least_squares(x, wN)));
-}
-
-arbor::test::LqrProblem lqr_data(const Eigen::Vector4d& x0) {
-  arbor::test::LqrProblem p;
-  p.N = N;
-  Eigen::MatrixXd a(4, 4), b(4, 2);
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 4; ++j)
-      a(i, j) = A[i][j];
-    for (int j = 0; j < 2; ++j)
-      b(i, j) = B[i][j];
-  }
-  p.A = {a};
-  p.B = {b};
-  p.Q = {Eigen::MatrixXd(2.0 * Eigen::Vector4d(wx[0], wx[1], wx[2], wx[3]).asDiagonal())};
-  p.R = {Eigen::MatrixXd(2.0 * Eigen::Vector2d(wu[0], wu[1]).asDiagonal())};
-  p.P_N = 2.0 * wN * Eigen::MatrixXd::Identity(4, 4);
-  p.x0 = x0;
-  return p;
-}
+using namespace arbor::test::coupled_masses;
 
 /// The linear problem's controller after solve(x0) and one real-time iteration's prepare().
 template <class Scalar>
