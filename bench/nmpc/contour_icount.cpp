@@ -73,10 +73,15 @@ int main(int argc, char** argv) {
   }
   const auto loop = std::make_unique<Loop>(o);
   const auto st = loop->start();
-  if (st != arbor::nmpc::NmpcStatus::converged) {
-    std::fprintf(stderr, "first solve: %s\n", arbor::nmpc::to_string(st));
+  // The loop starts from the first solve's plan. With frozen RK4 sensitivities that solve may
+  // end short of convergence (the demo prints it too): counted and said, not fatal; a status that
+  // leaves no plan is.
+  if (st != arbor::nmpc::NmpcStatus::converged)
+    std::fprintf(stderr, "first solve: %s (the loop starts from its plan)\n",
+                 arbor::nmpc::to_string(st));
+  if (st == arbor::nmpc::NmpcStatus::non_finite_input ||
+      st == arbor::nmpc::NmpcStatus::not_prepared)
     return 1;
-  }
   CALLGRIND_START_INSTRUMENTATION;
   Record r;
   int n = 0, failed = 0, limited = 0;
